@@ -1,0 +1,416 @@
+//! The sweep configuration: what to sweep, how long to measure, the workload levels, with
+//! defaults that reproduce Figure 5-1 and validation that names the field and what is allowed.
+
+use crate::affinity;
+use crate::frame_loop::{Budget, Mode, Threading};
+use crate::ocean::{mesh, normals, Grid, Kernel, Mesh, NormalMethod, Wave, WaveSet};
+use crate::sync::SyncMethod;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// A problem with user input: printed as one line, exit status 2.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct InputError(pub String);
+
+impl From<String> for InputError {
+    fn from(s: String) -> Self {
+        InputError(s)
+    }
+}
+
+/// One workload level: microseconds of one core's work, or a fraction of a mesh size's step.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Level {
+    /// Microseconds of one core's work.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub micros: Option<f64>,
+    /// Fraction of the measured step time of mesh `size` (reference kernel, `neighbors` normals).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub step_fraction: Option<f64>,
+    /// The mesh size whose step time `step_fraction` refers to.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<usize>,
+}
+
+impl Level {
+    /// A level of `micros` microseconds.
+    pub fn micros(micros: f64) -> Level {
+        Level {
+            micros: Some(micros),
+            step_fraction: None,
+            size: None,
+        }
+    }
+
+    /// A level of `fraction` × the step time of an N = `size` mesh.
+    pub fn step_fraction(fraction: f64, size: usize) -> Level {
+        Level {
+            micros: None,
+            step_fraction: Some(fraction),
+            size: Some(size),
+        }
+    }
+
+    fn validate(&self, index: usize) -> Result<(), InputError> {
+        let field = format!("workload_levels[{index}]");
+        match (self.micros, self.step_fraction, self.size) {
+            (Some(us), None, None) if us.is_finite() && us >= 0.0 => Ok(()),
+            (Some(us), None, None) => Err(InputError(format!(
+                "{field}.micros: must be a finite number >= 0, got {us}"
+            ))),
+            (None, Some(f), Some(size)) => {
+                if !(f.is_finite() && f >= 0.0) {
+                    return Err(InputError(format!(
+                        "{field}.step_fraction: must be a finite number >= 0, got {f}"
+                    )));
+                }
+                Grid::new(size, 1.0)
+                    .map(|_| ())
+                    .map_err(|e| InputError(format!("{field}.{e}")))
+            }
+            _ => Err(InputError(format!(
+                "{field}: give either {{\"micros\": US}} or {{\"step_fraction\": F, \"size\": N}}"
+            ))),
+        }
+    }
+}
+
+/// A sweep: every key that is a list is swept; a key left out takes the Figure 5-1 default.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SweepConfig {
+    /// Names the results directory.
+    pub name: String,
+    /// Free text recorded with the results.
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub description: String,
+    /// Mesh sizes N (N×N vertices).
+    pub sizes: Vec<usize>,
+    /// Workload indices into `workload_levels`.
+    pub workloads: Vec<usize>,
+    /// serial, up, dp.
+    pub modes: Vec<Mode>,
+    /// Hand-off methods (threaded modes).
+    pub sync: Vec<SyncMethod>,
+    /// Helper threading models (threaded modes).
+    pub threading: Vec<Threading>,
+    /// Normal methods.
+    pub normals: Vec<NormalMethod>,
+    /// Kernels.
+    pub kernel: Vec<Kernel>,
+    /// Trials per cell.
+    pub trials: u32,
+    /// Frames thrown away before each trial.
+    pub warmup_frames: u64,
+    /// Measured frames per trial, at least.
+    pub min_frames: u64,
+    /// Measured seconds per trial, at least.
+    pub min_seconds: f64,
+    /// A trial stops after this many seconds even short of `min_frames`.
+    pub max_seconds: f64,
+    /// The workload levels, indexed by `workloads`.
+    pub workload_levels: Vec<Level>,
+    /// Distance between grid vertices.
+    pub spacing: f32,
+    /// Simulated seconds per frame.
+    pub time_step: f64,
+    /// The waves (default: the built-in deep-ocean set).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub waves: Option<Vec<Wave>>,
+    /// A waves file, instead of `waves`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub waves_file: Option<PathBuf>,
+    /// Cores for main and helper: [main] or [main, helper] (default: the first allowed).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cores: Option<Vec<usize>>,
+    /// Seconds a hand-off wait may take before the cell is aborted.
+    pub timeout_seconds: f64,
+}
+
+impl Default for SweepConfig {
+    fn default() -> Self {
+        SweepConfig {
+            name: "figure-5-1".into(),
+            description: String::new(),
+            sizes: vec![40, 128, 256],
+            workloads: vec![0, 1, 2, 3],
+            modes: vec![Mode::Serial, Mode::Up, Mode::Dp],
+            sync: vec![SyncMethod::Atomic, SyncMethod::Mutex, SyncMethod::Condvar],
+            threading: vec![Threading::Pool],
+            normals: vec![NormalMethod::Neighbors],
+            kernel: vec![Kernel::Reference],
+            trials: 5,
+            warmup_frames: 20,
+            min_frames: 100,
+            min_seconds: 0.4,
+            max_seconds: 10.0,
+            workload_levels: default_levels(),
+            spacing: 1.0,
+            time_step: 1.0 / 60.0,
+            waves: None,
+            waves_file: None,
+            cores: None,
+            timeout_seconds: 5.0,
+        }
+    }
+}
+
+/// Workloads 0-3 placed around the step times of the default sizes, as Figure 5-1 has them:
+/// 1 below the 40×40 step, 2 between the 40×40 and the 128×128 step, 3 above the 256×256 step.
+pub fn default_levels() -> Vec<Level> {
+    vec![
+        Level::micros(0.0),
+        Level::step_fraction(0.5, 40),
+        Level::step_fraction(0.5, 128),
+        Level::step_fraction(1.5, 256),
+    ]
+}
+
+fn parse_json<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> Result<T, InputError> {
+    let de = &mut serde_json::Deserializer::from_str(text);
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        let msg = inner.to_string();
+        // serde_json appends " at line L column C"; the field path says more.
+        let msg = msg.split(" at line ").next().unwrap_or(&msg).to_string();
+        if path == "." || path.is_empty() {
+            InputError(format!("{what}: {msg}"))
+        } else {
+            InputError(format!("{what}: {path}: {msg}"))
+        }
+    })
+}
+
+impl SweepConfig {
+    /// Parses a config file's text and validates it.
+    pub fn from_json(text: &str) -> Result<Self, InputError> {
+        let config: SweepConfig = parse_json(text, "config")?;
+        config.validate()?;
+        Ok(config)
+    }
+
+    /// Reads and validates a config file; `name` defaults to the file's stem.
+    pub fn load(path: &Path) -> Result<Self, InputError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| InputError(format!("config {}: {e}", path.display())))?;
+        let mut config = Self::from_json(&text).map_err(|e| {
+            InputError(format!(
+                "{}: {}",
+                path.display(),
+                e.0.trim_start_matches("config: ")
+            ))
+        })?;
+        let has_name = text.contains("\"name\"");
+        if !has_name {
+            if let Some(stem) = path.file_stem() {
+                config.name = stem.to_string_lossy().into_owned();
+            }
+        }
+        Ok(config)
+    }
+
+    /// The wave set the config asks for.
+    pub fn wave_set(&self) -> Result<WaveSet, InputError> {
+        match (&self.waves, &self.waves_file) {
+            (Some(_), Some(_)) => Err(InputError(
+                "waves, waves_file: give one of them, not both".into(),
+            )),
+            (Some(waves), None) => {
+                WaveSet::new(waves.clone()).map_err(|e| InputError(e.to_string()))
+            }
+            (None, Some(path)) => WaveSet::load(path).map_err(|e| InputError(e.to_string())),
+            (None, None) => Ok(WaveSet::default()),
+        }
+    }
+
+    /// The trial budget.
+    pub fn budget(&self) -> Budget {
+        Budget {
+            warmup_frames: self.warmup_frames,
+            min_frames: self.min_frames,
+            min_seconds: self.min_seconds,
+            max_seconds: self.max_seconds,
+        }
+    }
+
+    /// Cores for [main, helper] in DP (main alone in serial and UP), checked against the
+    /// allowed cores.
+    pub fn placement(&self) -> Result<[usize; 2], InputError> {
+        let allowed = affinity::allowed_cores();
+        let needs_two = self.modes.contains(&Mode::Dp);
+        let cores = match &self.cores {
+            Some(c) => {
+                affinity::check_allowed(c)?;
+                c.clone()
+            }
+            None => allowed.iter().copied().take(2).collect(),
+        };
+        match cores.as_slice() {
+            [] => Err(InputError(
+                "cores: no core is allowed for this process".into(),
+            )),
+            [only] if needs_two => Err(InputError(format!(
+                "modes: dp needs two cores but {}; allowed cores: {}",
+                if self.cores.is_some() {
+                    format!("cores gives only {only}")
+                } else {
+                    "this machine (or cgroup) allows only one".to_string()
+                },
+                affinity::list(allowed)
+            ))),
+            [only] => Ok([*only, *only]),
+            [a, b] if needs_two && a == b => Err(InputError(format!(
+                "cores: dp needs two different cores, got {a},{b}"
+            ))),
+            [a, b] => Ok([*a, *b]),
+            _ => Err(InputError(format!(
+                "cores: give one or two core ids, got {}",
+                affinity::list(&cores)
+            ))),
+        }
+    }
+
+    /// Checks every field before anything runs.
+    pub fn validate(&self) -> Result<(), InputError> {
+        fn non_empty<T>(field: &str, list: &[T]) -> Result<(), InputError> {
+            if list.is_empty() {
+                Err(InputError(format!("{field}: must list at least one value")))
+            } else {
+                Ok(())
+            }
+        }
+        fn no_repeats<T: PartialEq + std::fmt::Debug>(
+            field: &str,
+            list: &[T],
+        ) -> Result<(), InputError> {
+            for (i, v) in list.iter().enumerate() {
+                if list[..i].contains(v) {
+                    return Err(InputError(format!("{field}: {v:?} is listed twice")));
+                }
+            }
+            Ok(())
+        }
+        if self.name.is_empty()
+            || !self
+                .name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
+        {
+            return Err(InputError(format!(
+                "name: must be non-empty letters, digits, '-', '_' or '.', got {:?}",
+                self.name
+            )));
+        }
+        non_empty("sizes", &self.sizes)?;
+        non_empty("workloads", &self.workloads)?;
+        non_empty("modes", &self.modes)?;
+        non_empty("sync", &self.sync)?;
+        non_empty("threading", &self.threading)?;
+        non_empty("normals", &self.normals)?;
+        non_empty("kernel", &self.kernel)?;
+        non_empty("workload_levels", &self.workload_levels)?;
+        no_repeats("sizes", &self.sizes)?;
+        no_repeats("workloads", &self.workloads)?;
+        no_repeats("modes", &self.modes)?;
+        no_repeats("sync", &self.sync)?;
+        no_repeats("threading", &self.threading)?;
+        no_repeats("normals", &self.normals)?;
+        no_repeats("kernel", &self.kernel)?;
+        for &n in &self.sizes {
+            let grid = Grid::new(n, self.spacing).map_err(|e| InputError(format!("sizes: {e}")))?;
+            if self.normals.contains(&NormalMethod::Lookup)
+                && normals::lookup_work(n) > normals::LOOKUP_MAX_WORK
+            {
+                return Err(InputError(format!(
+                    "normals: `lookup` at size {n} would take over a second per frame \
+                     (the paper's O(n²) search); use sizes <= {} with lookup",
+                    normals::lookup_max_size()
+                )));
+            }
+            check_memory(grid)?;
+        }
+        for (i, level) in self.workload_levels.iter().enumerate() {
+            level.validate(i)?;
+        }
+        if let Some(&w) = self
+            .workloads
+            .iter()
+            .find(|&&w| w >= self.workload_levels.len())
+        {
+            return Err(InputError(format!(
+                "workloads: {w} has no level; allowed 0 to {} (workload_levels has {})",
+                self.workload_levels.len() - 1,
+                self.workload_levels.len()
+            )));
+        }
+        if !(1..=1000).contains(&self.trials) {
+            return Err(InputError(format!(
+                "trials: must be 1 to 1000, got {}",
+                self.trials
+            )));
+        }
+        if self.min_frames == 0 {
+            return Err(InputError("min_frames: must be at least 1, got 0".into()));
+        }
+        let seconds_ok = |v: f64| v.is_finite() && v >= 0.0;
+        if !seconds_ok(self.min_seconds) {
+            return Err(InputError(format!(
+                "min_seconds: must be a finite number >= 0, got {}",
+                self.min_seconds
+            )));
+        }
+        if !(self.max_seconds >= self.min_seconds && self.max_seconds > 0.0) {
+            return Err(InputError(format!(
+                "max_seconds: must be > 0 and >= min_seconds ({}), got {}",
+                self.min_seconds, self.max_seconds
+            )));
+        }
+        if !(self.time_step.is_finite() && self.time_step >= 0.0) {
+            return Err(InputError(format!(
+                "time_step: must be a finite number >= 0, got {}",
+                self.time_step
+            )));
+        }
+        if !(self.timeout_seconds.is_finite()
+            && self.timeout_seconds > 0.0
+            && self.timeout_seconds <= 86_400.0)
+        {
+            return Err(InputError(format!(
+                "timeout_seconds: must be > 0 and at most 86400, got {}",
+                self.timeout_seconds
+            )));
+        }
+        self.wave_set()?;
+        self.placement()?;
+        Ok(())
+    }
+}
+
+/// Refuses a mesh whose two copies (helper's slot and main's render buffer) would not fit in the
+/// machine's available memory.
+fn check_memory(grid: Grid) -> Result<(), InputError> {
+    let need = 3 * Mesh::bytes(grid) as u64;
+    if let Some(avail) = available_memory() {
+        if need > avail {
+            return Err(InputError(format!(
+                "sizes: {n}×{n} needs about {} MiB but only {} MiB is available; max size {}",
+                need >> 20,
+                avail >> 20,
+                mesh::MAX_SIZE,
+                n = grid.n
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// MemAvailable from /proc/meminfo, in bytes (None where it cannot be read).
+fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}

@@ -1,0 +1,85 @@
+//! The cache-line ping-pong between two pinned threads: the floor under any hand-off, and the
+//! tell-tale of where a VM's two vCPUs sit right now (near or far from each other).
+
+use crate::affinity;
+use serde::{Deserialize, Serialize};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Round trips per timed batch: large enough that reading the clock costs nothing.
+const BATCH: u64 = 200;
+
+#[repr(align(128))]
+struct Line(AtomicU64);
+
+/// Round-trip time of one cache line bouncing between two cores.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RoundTrip {
+    /// The two cores.
+    pub cores: [usize; 2],
+    /// Median round trip (ns) over the batches.
+    pub median_ns: f64,
+    /// 99th percentile round trip (ns) over the batches.
+    pub p99_ns: f64,
+    /// Fastest batch's round trip (ns).
+    pub min_ns: f64,
+    /// Number of timed batches.
+    pub batches: usize,
+    /// Whether both pins held.
+    pub pinned: bool,
+}
+
+/// Measures `batches` batches of round trips between threads pinned to `a` and `b`.
+pub fn round_trip(a: usize, b: usize, batches: usize) -> RoundTrip {
+    let line = Arc::new(Line(AtomicU64::new(0)));
+    let batches = batches.max(1);
+    let total = (batches as u64 + 1) * BATCH;
+    let echo = {
+        let line = Arc::clone(&line);
+        std::thread::spawn(move || {
+            let pin = affinity::pin_current(b);
+            for i in 0..total {
+                while line.0.load(Ordering::Acquire) != 2 * i + 1 {
+                    std::hint::spin_loop();
+                }
+                line.0.store(2 * i + 2, Ordering::Release);
+            }
+            pin.held
+        })
+    };
+    let mut per_trip = Vec::with_capacity(batches);
+    let pin = std::thread::scope(|s| {
+        s.spawn(|| {
+            let pin = affinity::pin_current(a);
+            let mut start = Instant::now();
+            for i in 0..total {
+                line.0.store(2 * i + 1, Ordering::Release);
+                while line.0.load(Ordering::Acquire) != 2 * i + 2 {
+                    std::hint::spin_loop();
+                }
+                if (i + 1) % BATCH == 0 {
+                    // The first batch is a warm-up and is not kept.
+                    if i + 1 > BATCH {
+                        per_trip.push(start.elapsed().as_nanos() as f64 / BATCH as f64);
+                    }
+                    start = Instant::now();
+                }
+            }
+            pin.held
+        })
+        .join()
+        .unwrap_or(false)
+    });
+    let echo_held = echo.join().unwrap_or(false);
+    per_trip.sort_by(f64::total_cmp);
+    let pct = |p: f64| per_trip[((per_trip.len() - 1) as f64 * p).round() as usize];
+    RoundTrip {
+        cores: [a, b],
+        median_ns: pct(0.5),
+        p99_ns: pct(0.99),
+        min_ns: per_trip[0],
+        batches: per_trip.len(),
+        pinned: pin && echo_held,
+    }
+}

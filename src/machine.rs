@@ -1,0 +1,80 @@
+//! A description of the machine a run was measured on, recorded next to every result.
+
+use crate::affinity;
+use serde::{Deserialize, Serialize};
+
+/// The machine line of a results file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Machine {
+    /// CPU model name from /proc/cpuinfo.
+    pub cpu_model: String,
+    /// Logical cores the OS reports.
+    pub logical_cores: usize,
+    /// Cores this process may run on.
+    pub allowed_cores: Vec<usize>,
+    /// Operating system name and version.
+    pub os: String,
+    /// Kernel release.
+    pub kernel: String,
+    /// The compiler the binary was built with.
+    pub rustc: String,
+    /// oceanbench's version.
+    pub oceanbench_version: String,
+    /// `release` or `debug`.
+    pub build_profile: String,
+    /// Git commit of the source, when it was built from a checkout.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub git_commit: Option<String>,
+}
+
+impl Machine {
+    /// Reads the running machine.
+    pub fn current() -> Machine {
+        let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+        let cpu_model = cpuinfo
+            .lines()
+            .find(|l| l.starts_with("model name"))
+            .and_then(|l| l.split(':').nth(1))
+            .map(|s| s.trim().to_string())
+            .unwrap_or_else(|| std::env::consts::ARCH.to_string());
+        let os = std::fs::read_to_string("/etc/os-release")
+            .ok()
+            .and_then(|t| {
+                t.lines()
+                    .find(|l| l.starts_with("PRETTY_NAME="))
+                    .map(|l| l["PRETTY_NAME=".len()..].trim_matches('"').to_string())
+            })
+            .unwrap_or_else(|| std::env::consts::OS.to_string());
+        let kernel = std::fs::read_to_string("/proc/sys/kernel/osrelease")
+            .map(|s| s.trim().to_string())
+            .unwrap_or_default();
+        let commit = env!("OCEANBENCH_GIT_COMMIT");
+        Machine {
+            cpu_model,
+            logical_cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            allowed_cores: affinity::allowed_cores().to_vec(),
+            os,
+            kernel,
+            rustc: env!("OCEANBENCH_RUSTC").to_string(),
+            oceanbench_version: env!("CARGO_PKG_VERSION").to_string(),
+            build_profile: if cfg!(debug_assertions) {
+                "debug".into()
+            } else {
+                "release".into()
+            },
+            git_commit: (!commit.is_empty()).then(|| commit.to_string()),
+        }
+    }
+
+    /// One line naming the machine, for tables and charts.
+    pub fn line(&self) -> String {
+        format!(
+            "{}, {} logical cores (allowed {}), {}, {} build",
+            self.cpu_model,
+            self.logical_cores,
+            affinity::list(&self.allowed_cores),
+            self.os,
+            self.build_profile
+        )
+    }
+}

@@ -1,0 +1,167 @@
+//! Frame statistics: average FPS as frames ÷ elapsed time, frame-time percentiles, the 1% low,
+//! the per-frame breakdown, and the spread over trials.
+
+use serde::{Deserialize, Serialize};
+
+/// What the main thread timed in one frame (nanoseconds).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameRecord {
+    /// Whole frame: from the start of the workload to the release of the helper.
+    pub total_ns: u64,
+    /// The synthetic workload.
+    pub workload_ns: u64,
+    /// Waiting for the helper's mesh (zero in `serial`).
+    pub wait_ns: u64,
+    /// Copying the mesh into the render buffer.
+    pub copy_ns: u64,
+    /// The mesh step as timed by the thread that ran it.
+    pub step_ns: u64,
+}
+
+/// One trial's frames.
+#[derive(Clone, Debug, Default)]
+pub struct Trial {
+    /// Measured frames, in order (warm-up frames are not kept).
+    pub frames: Vec<FrameRecord>,
+}
+
+impl Trial {
+    /// Elapsed seconds over the measured frames.
+    pub fn seconds(&self) -> f64 {
+        self.frames.iter().map(|f| f.total_ns).sum::<u64>() as f64 * 1e-9
+    }
+
+    /// Frames ÷ elapsed seconds.
+    pub fn fps(&self) -> f64 {
+        self.frames.len() as f64 / self.seconds()
+    }
+}
+
+/// Percentiles of frame time, in milliseconds.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FrameTimes {
+    /// Mean frame time.
+    pub mean: f64,
+    /// Median frame time.
+    pub median: f64,
+    /// 99th percentile (nearest rank).
+    pub p99: f64,
+    /// Slowest frame.
+    pub max: f64,
+}
+
+/// Mean time per frame of each part of the frame, in milliseconds.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Breakdown {
+    /// Main thread's synthetic workload.
+    pub workload_ms: f64,
+    /// Main thread waiting for the mesh.
+    pub wait_ms: f64,
+    /// Main thread copying the mesh to its render buffer.
+    pub copy_ms: f64,
+    /// The mesh step (helper thread, or main in `serial`).
+    pub step_ms: f64,
+}
+
+/// Spread of the per-trial FPS.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Spread {
+    /// Slowest trial.
+    pub min: f64,
+    /// Fastest trial.
+    pub max: f64,
+    /// Sample standard deviation over trials (0 with one trial).
+    pub stddev: f64,
+    /// Standard deviation as a percentage of the mean trial FPS.
+    pub cv_percent: f64,
+}
+
+/// Everything reported for one cell.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// All measured frames ÷ all measured seconds, over every trial.
+    pub fps: f64,
+    /// Each trial's frames ÷ seconds.
+    pub fps_trials: Vec<f64>,
+    /// Spread of `fps_trials`.
+    pub fps_spread: Spread,
+    /// Frame-time percentiles over every measured frame.
+    pub frame_time_ms: FrameTimes,
+    /// 1% low: frames ÷ time of the slowest 1% of frames (at least one frame).
+    pub one_percent_low_fps: f64,
+    /// Mean per-frame breakdown.
+    pub breakdown: Breakdown,
+    /// Measured frames over every trial.
+    pub frames: usize,
+    /// Measured seconds over every trial.
+    pub seconds: f64,
+}
+
+/// Value at quantile `q` of sorted values, nearest rank.
+pub fn quantile(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let rank = (q * sorted.len() as f64).ceil() as usize;
+    sorted[rank.clamp(1, sorted.len()) - 1]
+}
+
+fn mean(values: impl ExactSizeIterator<Item = f64>) -> f64 {
+    let n = values.len();
+    values.sum::<f64>() / n as f64
+}
+
+impl Summary {
+    /// Summarises the trials of one cell; `None` when no frame was measured.
+    pub fn of(trials: &[Trial]) -> Option<Summary> {
+        let all: Vec<&FrameRecord> = trials.iter().flat_map(|t| &t.frames).collect();
+        if all.is_empty() {
+            return None;
+        }
+        let ms = |ns: u64| ns as f64 * 1e-6;
+        let mut times: Vec<f64> = all.iter().map(|f| ms(f.total_ns)).collect();
+        times.sort_by(f64::total_cmp);
+        let seconds: f64 = trials.iter().map(Trial::seconds).sum();
+        let fps_trials: Vec<f64> = trials
+            .iter()
+            .filter(|t| !t.frames.is_empty())
+            .map(Trial::fps)
+            .collect();
+        let avg = mean(fps_trials.iter().copied());
+        let stddev = if fps_trials.len() > 1 {
+            (fps_trials.iter().map(|f| (f - avg).powi(2)).sum::<f64>()
+                / (fps_trials.len() - 1) as f64)
+                .sqrt()
+        } else {
+            0.0
+        };
+        let slowest = (times.len() / 100).max(1);
+        let slow_ms: f64 = times[times.len() - slowest..].iter().sum();
+        let part = |f: fn(&FrameRecord) -> u64| mean(all.iter().map(|r| ms(f(r))));
+        Some(Summary {
+            fps: all.len() as f64 / seconds,
+            fps_spread: Spread {
+                min: fps_trials.iter().copied().fold(f64::INFINITY, f64::min),
+                max: fps_trials.iter().copied().fold(0.0, f64::max),
+                stddev,
+                cv_percent: 100.0 * stddev / avg,
+            },
+            fps_trials,
+            frame_time_ms: FrameTimes {
+                mean: mean(times.iter().copied()),
+                median: quantile(&times, 0.5),
+                p99: quantile(&times, 0.99),
+                max: times[times.len() - 1],
+            },
+            one_percent_low_fps: slowest as f64 * 1e3 / slow_ms,
+            breakdown: Breakdown {
+                workload_ms: part(|r| r.workload_ns),
+                wait_ms: part(|r| r.wait_ns),
+                copy_ms: part(|r| r.copy_ns),
+                step_ms: part(|r| r.step_ns),
+            },
+            frames: all.len(),
+            seconds,
+        })
+    }
+}

@@ -1,0 +1,79 @@
+//! The ocean surface: waves, the grid mesh, normals and the per-frame step that fills them.
+
+pub mod mesh;
+pub mod normals;
+pub mod reference;
+pub mod waves;
+
+pub use mesh::{Grid, Mesh};
+pub use normals::NormalMethod;
+pub use waves::{Wave, WaveSet};
+
+use normals::FaceNormals;
+use serde::{Deserialize, Serialize};
+
+/// Which implementation fills heights (and analytic normals).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Kernel {
+    /// The straight port of section 4.2, kept as the oracle.
+    Reference,
+}
+
+impl Kernel {
+    /// The name used in configs, flags and results.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kernel::Reference => "reference",
+        }
+    }
+}
+
+/// Everything needed to compute one frame's mesh: waves, normal method, kernel and the
+/// precomputed topology. Owned by whichever thread runs the step.
+#[derive(Clone, Debug)]
+pub struct Ocean {
+    waves: WaveSet,
+    normals: NormalMethod,
+    kernel: Kernel,
+    faces: Option<FaceNormals>,
+}
+
+impl Ocean {
+    /// Prepares an ocean for `grid`; refuses `lookup` on grids where one frame would take too long.
+    pub fn new(
+        grid: Grid,
+        waves: WaveSet,
+        normals: NormalMethod,
+        kernel: Kernel,
+    ) -> Result<Self, String> {
+        if normals == NormalMethod::Lookup
+            && normals::lookup_work(grid.n) > normals::LOOKUP_MAX_WORK
+        {
+            return Err(format!(
+                "normals: `lookup` is O(n²) in vertices and would take over a second per frame at \
+                 size {}; use size <= {} or normals `neighbors`/`analytic`",
+                grid.n,
+                normals::lookup_max_size()
+            ));
+        }
+        let faces = (normals != NormalMethod::Analytic).then(|| FaceNormals::new(grid));
+        Ok(Ocean {
+            waves,
+            normals,
+            kernel,
+            faces,
+        })
+    }
+
+    /// Fills `mesh` with the surface and its normals at time `t`.
+    pub fn step(&mut self, t: f32, mesh: &mut Mesh) {
+        let analytic = self.normals == NormalMethod::Analytic;
+        match self.kernel {
+            Kernel::Reference => reference::step(&self.waves, mesh, t, analytic),
+        }
+        if let Some(faces) = &mut self.faces {
+            faces.compute(mesh, self.normals);
+        }
+    }
+}

@@ -1,0 +1,167 @@
+//! The results file: the interface between measuring and reporting. Tables, charts and
+//! comparisons are drawn from it alone.
+
+use crate::config::{Level, SweepConfig};
+use crate::crosscore::RoundTrip;
+use crate::frame_loop::{Mode, Threading};
+use crate::machine::Machine;
+use crate::measure::Summary;
+use crate::ocean::{Kernel, NormalMethod};
+use crate::sync::SyncMethod;
+use crate::workload::Calibration;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The parameters that identify a cell.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct CellKey {
+    /// Mesh size N.
+    pub size: usize,
+    /// Workload index.
+    pub workload: usize,
+    /// serial, up or dp.
+    pub mode: Mode,
+    /// Hand-off method; `null` in serial.
+    pub sync: Option<SyncMethod>,
+    /// Helper threading; `null` in serial.
+    pub threading: Option<Threading>,
+    /// Normal method.
+    pub normals: NormalMethod,
+    /// Kernel.
+    pub kernel: Kernel,
+}
+
+impl CellKey {
+    /// A short label such as `256 w2 dp atomic pool neighbors reference`.
+    pub fn label(&self) -> String {
+        let mut parts = vec![
+            format!("{}", self.size),
+            format!("w{}", self.workload),
+            self.mode.name().to_string(),
+        ];
+        if let Some(s) = self.sync {
+            parts.push(s.name().into());
+        }
+        if let Some(t) = self.threading {
+            parts.push(t.name().into());
+        }
+        parts.push(self.normals.name().into());
+        parts.push(self.kernel.name().into());
+        parts.join(" ")
+    }
+}
+
+/// The cores a cell ran on and whether the pins held.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Pins {
+    /// Main thread's core.
+    pub main_core: usize,
+    /// Helper's core (`null` in serial).
+    pub helper_core: Option<usize>,
+    /// Main thread's pin held.
+    pub main_held: bool,
+    /// Helper's pin held (`null` in serial).
+    pub helper_held: Option<bool>,
+}
+
+/// One measured (or failed) cell.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Cell {
+    /// The cell's parameters.
+    #[serde(flatten)]
+    pub key: CellKey,
+    /// Workload iterations per frame.
+    pub workload_iterations: u64,
+    /// The measurements; absent when the cell failed.
+    #[serde(flatten)]
+    pub summary: Option<Summary>,
+    /// Every pin of every trial held.
+    pub pinned: bool,
+    /// Cores and pins of the last trial.
+    pub pins: Pins,
+    /// Why the cell failed, if it did.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+}
+
+/// A resolved workload level.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LevelRecord {
+    /// Workload index.
+    pub workload: usize,
+    /// The level as configured.
+    pub level: Level,
+    /// Microseconds of one core's work it came to.
+    pub micros: f64,
+    /// Workload iterations per frame.
+    pub iterations: u64,
+}
+
+/// A mesh step time measured to resolve `step_fraction` levels.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StepTime {
+    /// Mesh size N.
+    pub size: usize,
+    /// Median single-thread step time (ms), reference kernel and `neighbors` normals.
+    pub median_ms: f64,
+}
+
+/// What was measured before the cells to turn levels into iterations.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CalibrationRecord {
+    /// The workload's speed on this machine.
+    pub workload: Calibration,
+    /// Step times of the sizes that levels refer to.
+    pub step_times: Vec<StepTime>,
+    /// Each level's microseconds and iterations.
+    pub levels: Vec<LevelRecord>,
+}
+
+/// The cross-core round trip at the start and end of a run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Placement {
+    /// Measured before the first cell.
+    pub before: Option<RoundTrip>,
+    /// Measured after the last cell.
+    pub after: Option<RoundTrip>,
+}
+
+/// A whole results file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Results {
+    /// The machine measured on.
+    pub machine: Machine,
+    /// The config as run.
+    pub config: SweepConfig,
+    /// Workload and step calibration.
+    pub calibration: CalibrationRecord,
+    /// Cache-line round trip between the two cores, before and after.
+    pub round_trip: Placement,
+    /// UTC time the run started (RFC 3339).
+    pub started: String,
+    /// UTC time the run finished; absent while it runs or if it was interrupted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub finished: Option<String>,
+    /// Every finished cell, in the order run.
+    pub cells: Vec<Cell>,
+}
+
+impl Results {
+    /// Reads a results file, or the `results.json` inside a results directory.
+    pub fn load(path: &Path) -> Result<Results, String> {
+        let file = if path.is_dir() {
+            path.join("results.json")
+        } else {
+            path.to_path_buf()
+        };
+        let text = std::fs::read_to_string(&file)
+            .map_err(|e| format!("results {}: {e}", file.display()))?;
+        serde_json::from_str(&text)
+            .map_err(|e| format!("{}: not an oceanbench results file: {e}", file.display()))
+    }
+
+    /// The cell with `key`, if it was measured.
+    pub fn cell(&self, key: &CellKey) -> Option<&Cell> {
+        self.cells.iter().find(|c| &c.key == key)
+    }
+}

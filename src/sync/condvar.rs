@@ -1,0 +1,107 @@
+//! `condvar` and `condvar-std`: blocking waits on a condition variable, the paper's "OS-level
+//! synchronisation object".
+
+use super::{released_from, Handoff, Released, State, TimedOut};
+use std::time::Instant;
+
+/// parking_lot's mutex and condition variable.
+#[derive(Default)]
+pub struct ParkingLotCondvar {
+    state: parking_lot::Mutex<State>,
+    changed: parking_lot::Condvar,
+}
+
+impl ParkingLotCondvar {
+    fn set(&self, state: State) {
+        *self.state.lock() = state;
+        self.changed.notify_all();
+    }
+
+    fn wait_for<T>(
+        &self,
+        deadline: Instant,
+        done: impl Fn(State) -> Option<T>,
+    ) -> Result<T, TimedOut> {
+        let mut guard = self.state.lock();
+        loop {
+            if let Some(v) = done(*guard) {
+                return Ok(v);
+            }
+            if self.changed.wait_until(&mut guard, deadline).timed_out() {
+                return done(*guard).ok_or(TimedOut);
+            }
+        }
+    }
+}
+
+impl Handoff for ParkingLotCondvar {
+    fn publish(&self) {
+        self.set(State::Full);
+    }
+    fn wait_published(&self, deadline: Instant) -> Result<(), TimedOut> {
+        self.wait_for(deadline, |s| (s == State::Full).then_some(()))
+    }
+    fn release(&self) {
+        self.set(State::Empty);
+    }
+    fn wait_released(&self, deadline: Instant) -> Result<Released, TimedOut> {
+        self.wait_for(deadline, released_from)
+    }
+    fn shutdown(&self) {
+        self.set(State::Shutdown);
+    }
+}
+
+/// `std::sync`'s mutex and condition variable.
+#[derive(Default)]
+pub struct StdCondvar {
+    state: std::sync::Mutex<State>,
+    changed: std::sync::Condvar,
+}
+
+impl StdCondvar {
+    fn set(&self, state: State) {
+        *self.state.lock().unwrap_or_else(|e| e.into_inner()) = state;
+        self.changed.notify_all();
+    }
+
+    fn wait_for<T>(
+        &self,
+        deadline: Instant,
+        done: impl Fn(State) -> Option<T>,
+    ) -> Result<T, TimedOut> {
+        let mut guard = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        loop {
+            if let Some(v) = done(*guard) {
+                return Ok(v);
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Err(TimedOut);
+            }
+            guard = self
+                .changed
+                .wait_timeout(guard, left)
+                .unwrap_or_else(|e| e.into_inner())
+                .0;
+        }
+    }
+}
+
+impl Handoff for StdCondvar {
+    fn publish(&self) {
+        self.set(State::Full);
+    }
+    fn wait_published(&self, deadline: Instant) -> Result<(), TimedOut> {
+        self.wait_for(deadline, |s| (s == State::Full).then_some(()))
+    }
+    fn release(&self) {
+        self.set(State::Empty);
+    }
+    fn wait_released(&self, deadline: Instant) -> Result<Released, TimedOut> {
+        self.wait_for(deadline, released_from)
+    }
+    fn shutdown(&self) {
+        self.set(State::Shutdown);
+    }
+}
