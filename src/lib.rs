@@ -2,12 +2,15 @@
 //! headless benchmark harness.
 
 pub mod affinity;
+pub mod cli;
 pub mod config;
 pub mod crosscore;
 pub mod frame_loop;
 pub mod machine;
 pub mod measure;
 pub mod ocean;
+pub mod report;
 pub mod results;
+pub mod sweep;
 pub mod sync;
 pub mod workload;

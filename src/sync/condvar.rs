@@ -17,6 +17,16 @@ impl ParkingLotCondvar {
         self.changed.notify_all();
     }
 
+    /// Empty → Full only, so a shutdown that arrived meanwhile survives.
+    fn set_if_empty(&self, state: State) {
+        let mut s = self.state.lock();
+        if *s == State::Empty {
+            *s = state;
+            drop(s);
+            self.changed.notify_all();
+        }
+    }
+
     fn wait_for<T>(
         &self,
         deadline: Instant,
@@ -36,7 +46,7 @@ impl ParkingLotCondvar {
 
 impl Handoff for ParkingLotCondvar {
     fn publish(&self) {
-        self.set(State::Full);
+        self.set_if_empty(State::Full);
     }
     fn wait_published(&self, deadline: Instant) -> Result<(), TimedOut> {
         self.wait_for(deadline, |s| (s == State::Full).then_some(()))
@@ -65,6 +75,16 @@ impl StdCondvar {
         self.changed.notify_all();
     }
 
+    /// Empty → Full only, so a shutdown that arrived meanwhile survives.
+    fn set_if_empty(&self, state: State) {
+        let mut s = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        if *s == State::Empty {
+            *s = state;
+            drop(s);
+            self.changed.notify_all();
+        }
+    }
+
     fn wait_for<T>(
         &self,
         deadline: Instant,
@@ -90,7 +110,7 @@ impl StdCondvar {
 
 impl Handoff for StdCondvar {
     fn publish(&self) {
-        self.set(State::Full);
+        self.set_if_empty(State::Full);
     }
     fn wait_published(&self, deadline: Instant) -> Result<(), TimedOut> {
         self.wait_for(deadline, |s| (s == State::Full).then_some(()))

@@ -69,7 +69,13 @@ impl<R: Relax> AtomicFlag<R> {
 
 impl<R: Relax> Handoff for AtomicFlag<R> {
     fn publish(&self) {
-        self.state.store(State::Full as u8, Ordering::Release);
+        // Empty → Full only: a shutdown that arrived while the helper computed must survive.
+        let _ = self.state.compare_exchange(
+            State::Empty as u8,
+            State::Full as u8,
+            Ordering::Release,
+            Ordering::Relaxed,
+        );
     }
 
     fn wait_published(&self, deadline: Instant) -> Result<(), TimedOut> {

@@ -10,6 +10,8 @@ pub trait StateLock: Default + Send + Sync + 'static {
     fn get(&self) -> State;
     /// Writes the state inside the critical section.
     fn set(&self, state: State);
+    /// Moves Empty → Full inside the critical section, leaving a shutdown in place.
+    fn publish(&self);
 }
 
 impl StateLock for parking_lot::Mutex<State> {
@@ -18,6 +20,12 @@ impl StateLock for parking_lot::Mutex<State> {
     }
     fn set(&self, state: State) {
         *self.lock() = state;
+    }
+    fn publish(&self) {
+        let mut s = self.lock();
+        if *s == State::Empty {
+            *s = State::Full;
+        }
     }
 }
 
@@ -29,6 +37,12 @@ impl StateLock for std::sync::Mutex<State> {
     fn set(&self, state: State) {
         *self.lock().unwrap_or_else(|e| e.into_inner()) = state;
     }
+    fn publish(&self) {
+        let mut s = self.lock().unwrap_or_else(|e| e.into_inner());
+        if *s == State::Empty {
+            *s = State::Full;
+        }
+    }
 }
 
 /// The paper's critical-section build: every look at the flag enters the critical section.
@@ -39,7 +53,7 @@ pub struct PolledLock<L: StateLock> {
 
 impl<L: StateLock> Handoff for PolledLock<L> {
     fn publish(&self) {
-        self.lock.set(State::Full);
+        self.lock.publish();
     }
 
     fn wait_published(&self, deadline: Instant) -> Result<(), TimedOut> {

@@ -1,0 +1,331 @@
+//! Command-line definitions (clap) and the commands they run.
+
+use crate::config::{InputError, Level, SweepConfig};
+use crate::frame_loop::{Mode, Threading};
+use crate::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
+use crate::report;
+use crate::results::Results;
+use crate::sweep::Sweep;
+use crate::sync::SyncMethod;
+use clap::{Args, Parser, Subcommand};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Why a command failed: bad input (exit 2) or a failure while running (exit 1).
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// The user's input is wrong.
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// Something failed while running.
+    #[error(transparent)]
+    Run(#[from] anyhow::Error),
+}
+
+impl CliError {
+    /// The process exit status for this error.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            CliError::Input(_) => 2,
+            CliError::Run(_) => 1,
+        }
+    }
+}
+
+const EXAMPLES: &str = "\
+Examples:
+  oceanbench sweep                              # the built-in Figure 5-1 sweep into results/
+  oceanbench sweep configs/quick.json --out /tmp/quick
+  oceanbench run --size 128 --workload 2 --mode dp --sync condvar
+  oceanbench mesh --size 64 --time 1.5 --normals analytic --out frame.csv";
+
+/// oceanbench: the uniprocessor vs dual-processor deep-ocean study, measured on this machine.
+#[derive(Debug, Parser)]
+#[command(name = "oceanbench", version, after_help = EXAMPLES)]
+pub struct Cli {
+    /// The command to run.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Measure one cell (mesh size × workload × mode × method) and print its statistics.
+    #[command(
+        after_help = "Example:\n  oceanbench run --size 256 --workload 3 --mode up --sync mutex --trials 3"
+    )]
+    Run(RunArgs),
+    /// Run a sweep config (default: the built-in Figure 5-1 sweep) and write results files.
+    #[command(
+        after_help = "Examples:\n  oceanbench sweep\n  oceanbench sweep configs/sync-primitives.json --out results/sync"
+    )]
+    Sweep(SweepArgs),
+    /// Write one frame of the surface as CSV (i,j,x,y,z,nx,ny,nz).
+    #[command(
+        after_help = "Example:\n  oceanbench mesh --size 32 --time 10 --waves my-waves.json --out frame.csv"
+    )]
+    Mesh(MeshArgs),
+}
+
+/// Flags of `oceanbench run`.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// Mesh size N (N×N vertices).
+    #[arg(long, default_value_t = 128)]
+    pub size: usize,
+    /// Workload level index (0-3 with the default levels).
+    #[arg(long, default_value_t = 0)]
+    pub workload: usize,
+    /// Workload as microseconds of one core's work, instead of a level index.
+    #[arg(long, conflicts_with = "workload")]
+    pub workload_micros: Option<f64>,
+    /// Where the threads run.
+    #[arg(long, value_enum, default_value = "dp")]
+    pub mode: Mode,
+    /// Hand-off method.
+    #[arg(long, value_enum, default_value = "atomic")]
+    pub sync: SyncMethod,
+    /// Helper threading model.
+    #[arg(long, value_enum, default_value = "pool")]
+    pub threading: Threading,
+    /// Normal method.
+    #[arg(long, value_enum, default_value = "neighbors")]
+    pub normals: NormalMethod,
+    /// Kernel.
+    #[arg(long, value_enum, default_value = "reference")]
+    pub kernel: Kernel,
+    /// Waves file (JSON); default: the built-in deep-ocean set.
+    #[arg(long)]
+    pub waves: Option<PathBuf>,
+    /// Measured frames per trial, at least.
+    #[arg(long, default_value_t = 200)]
+    pub frames: u64,
+    /// Measured seconds per trial, at least.
+    #[arg(long, default_value_t = 1.0)]
+    pub seconds: f64,
+    /// Trials.
+    #[arg(long, default_value_t = 3)]
+    pub trials: u32,
+    /// Cores for the main and helper threads, e.g. `0,1` (default: the first allowed).
+    #[arg(long, value_delimiter = ',')]
+    pub cores: Option<Vec<usize>>,
+    /// Also write results files into this directory.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// Flags of `oceanbench sweep`.
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    /// Sweep config (JSON); default: the built-in Figure 5-1 config.
+    pub config: Option<PathBuf>,
+    /// Results directory (default: results/<config name>-<UTC timestamp>).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// Flags of `oceanbench mesh`.
+#[derive(Debug, Args)]
+pub struct MeshArgs {
+    /// Mesh size N (N×N vertices).
+    #[arg(long)]
+    pub size: usize,
+    /// Simulated time t in seconds.
+    #[arg(long)]
+    pub time: f32,
+    /// Distance between vertices.
+    #[arg(long, default_value_t = 1.0)]
+    pub spacing: f32,
+    /// Waves file (JSON); default: the built-in deep-ocean set.
+    #[arg(long)]
+    pub waves: Option<PathBuf>,
+    /// Normal method.
+    #[arg(long, value_enum, default_value = "analytic")]
+    pub normals: NormalMethod,
+    /// Kernel.
+    #[arg(long, value_enum, default_value = "reference")]
+    pub kernel: Kernel,
+    /// Output CSV file.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Runs a parsed command line.
+pub fn execute(cli: Cli) -> Result<(), CliError> {
+    match cli.command {
+        Command::Run(args) => run(args),
+        Command::Sweep(args) => sweep(args),
+        Command::Mesh(args) => mesh(args),
+    }
+}
+
+fn run(args: RunArgs) -> Result<(), CliError> {
+    let mut config = SweepConfig {
+        name: "run".into(),
+        sizes: vec![args.size],
+        modes: vec![args.mode],
+        sync: vec![args.sync],
+        threading: vec![args.threading],
+        normals: vec![args.normals],
+        kernel: vec![args.kernel],
+        trials: args.trials,
+        min_frames: args.frames,
+        min_seconds: args.seconds,
+        max_seconds: (args.seconds * 10.0).max(10.0),
+        waves_file: args.waves,
+        cores: args.cores,
+        ..SweepConfig::default()
+    };
+    config.workloads = vec![args.workload];
+    if let Some(us) = args.workload_micros {
+        config.workload_levels = vec![Level::micros(us)];
+        config.workloads = vec![0];
+    }
+    if let Some(dir) = &args.out {
+        prepare_out_dir(dir)?;
+    }
+    let sweep = Sweep::prepare(config)?;
+    let results = sweep.run(|_, _| {}, |_| {});
+    if let Some(dir) = &args.out {
+        report::write_all(dir, &results).map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?;
+    }
+    print_cells(&results);
+    fail_on_errors(&results)
+}
+
+fn print_cells(results: &Results) {
+    println!("{}", report::markdown::preamble(results));
+    for cell in &results.cells {
+        println!("{}", cell.key.label());
+        match &cell.summary {
+            Some(s) => println!(
+                "  {:.1} FPS (trials {}; cv {:.1}%), frame median {:.3} ms, p99 {:.3} ms, 1% low {:.1} FPS\n  per frame: workload {:.3} ms, wait {:.3} ms, copy {:.3} ms, step {:.3} ms; pinned: {}",
+                s.fps,
+                s.fps_trials
+                    .iter()
+                    .map(|f| format!("{f:.1}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                s.fps_spread.cv_percent,
+                s.frame_time_ms.median,
+                s.frame_time_ms.p99,
+                s.one_percent_low_fps,
+                s.breakdown.workload_ms,
+                s.breakdown.wait_ms,
+                s.breakdown.copy_ms,
+                s.breakdown.step_ms,
+                cell.pinned
+            ),
+            None => println!("  failed: {}", cell.error.as_deref().unwrap_or("no frames")),
+        }
+    }
+}
+
+fn fail_on_errors(results: &Results) -> Result<(), CliError> {
+    let failed = results.cells.iter().filter(|c| c.error.is_some()).count();
+    if failed > 0 {
+        return Err(anyhow::anyhow!("{failed} cell(s) failed; see the results").into());
+    }
+    Ok(())
+}
+
+/// Creates the results directory, refusing one that already holds results.
+fn prepare_out_dir(dir: &Path) -> Result<(), CliError> {
+    if dir.join("results.json").exists() {
+        return Err(InputError(format!(
+            "--out: {} already holds results.json; choose another directory",
+            dir.display()
+        ))
+        .into());
+    }
+    std::fs::create_dir_all(dir)
+        .map_err(|e| InputError(format!("--out: cannot create {}: {e}", dir.display())))?;
+    Ok(())
+}
+
+fn sweep(args: SweepArgs) -> Result<(), CliError> {
+    let config = match &args.config {
+        Some(path) => SweepConfig::load(path)?,
+        None => SweepConfig::default(),
+    };
+    config.validate()?;
+    let dir = args.out.clone().unwrap_or_else(|| {
+        let stamp: String = crate::sweep::utc_now()
+            .chars()
+            .filter(|c| c.is_ascii_alphanumeric())
+            .collect();
+        PathBuf::from("results").join(format!("{}-{stamp}", config.name))
+    });
+    prepare_out_dir(&dir)?;
+    eprintln!("oceanbench: calibrating; results go to {}", dir.display());
+    let sweep = Sweep::prepare(config)?;
+    let bar = if args.quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(sweep.keys().len() as u64)
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:30}] {pos}/{len} cells, eta {eta} {msg}",
+        )
+        .expect("the template is valid")
+        .progress_chars("=> "),
+    );
+    let mut write_error = None;
+    let results = sweep.run(
+        |_, key| bar.set_message(key.label()),
+        |results| {
+            bar.set_position(results.cells.len() as u64);
+            if let Err(e) = report::write_all(&dir, results) {
+                write_error.get_or_insert(e);
+            }
+        },
+    );
+    bar.finish_and_clear();
+    if let Some(e) = write_error {
+        return Err(anyhow::anyhow!("writing results into {}: {e}", dir.display()).into());
+    }
+    println!("{}", report::markdown::to_string(&results));
+    println!("Results: {}", dir.display());
+    fail_on_errors(&results)
+}
+
+fn mesh(args: MeshArgs) -> Result<(), CliError> {
+    let grid = Grid::new(args.size, args.spacing).map_err(InputError)?;
+    if !args.time.is_finite() {
+        return Err(InputError(format!(
+            "--time: must be a finite number, got {}",
+            args.time
+        ))
+        .into());
+    }
+    let waves = match &args.waves {
+        Some(path) => WaveSet::load(path).map_err(|e| InputError(e.to_string()))?,
+        None => WaveSet::default(),
+    };
+    let mut ocean = Ocean::new(grid, waves, args.normals, args.kernel).map_err(InputError)?;
+    let mut mesh = Mesh::new(grid);
+    ocean.step(args.time, &mut mesh);
+    let file = std::fs::File::create(&args.out)
+        .map_err(|e| InputError(format!("--out: cannot create {}: {e}", args.out.display())))?;
+    let mut w = std::io::BufWriter::new(file);
+    let io = |e: std::io::Error| anyhow::anyhow!("{}: {e}", args.out.display());
+    writeln!(w, "i,j,x,y,z,nx,ny,nz").map_err(io)?;
+    for i in 0..grid.n {
+        for j in 0..grid.n {
+            let v = grid.index(i, j);
+            writeln!(
+                w,
+                "{i},{j},{},{},{},{},{},{}",
+                mesh.x[v], mesh.y[v], mesh.z[v], mesh.nx[v], mesh.ny[v], mesh.nz[v]
+            )
+            .map_err(io)?;
+        }
+    }
+    w.flush().map_err(io)?;
+    Ok(())
+}

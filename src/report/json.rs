@@ -1,0 +1,24 @@
+//! The JSON results file and the atomic write every output uses.
+
+use crate::results::Results;
+use std::io::Write;
+use std::path::Path;
+
+/// Pretty JSON of a results file.
+pub fn to_string(results: &Results) -> std::io::Result<String> {
+    serde_json::to_string_pretty(results).map_err(std::io::Error::other)
+}
+
+/// Writes `bytes` to a temporary file beside `path`, syncs it, then renames it over `path`, so
+/// a reader (or an interrupted run) only ever sees the old or the new file whole.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let name = path
+        .file_name()
+        .ok_or_else(|| std::io::Error::other("write_atomic needs a file path"))?;
+    let tmp = path.with_file_name(format!(".{}.tmp", name.to_string_lossy()));
+    let mut file = std::fs::File::create(&tmp)?;
+    file.write_all(bytes)?;
+    file.sync_all()?;
+    drop(file);
+    std::fs::rename(&tmp, path)
+}

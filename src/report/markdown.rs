@@ -1,0 +1,155 @@
+//! The Figure 5-1 table: rows mesh size × workload, columns serial / UP / DP and the ratios, one
+//! table per hand-off method, threading model, normal method and kernel.
+
+use crate::frame_loop::Mode;
+use crate::results::{Cell, CellKey, Results};
+use std::fmt::Write;
+
+fn fps(cell: Option<&Cell>) -> String {
+    match cell {
+        Some(Cell {
+            summary: Some(s), ..
+        }) => format!("{:.0} ±{:.1}%", s.fps, s.fps_spread.cv_percent),
+        Some(Cell { error: Some(_), .. }) => "failed".into(),
+        _ => "–".into(),
+    }
+}
+
+fn ratio(a: Option<&Cell>, b: Option<&Cell>) -> String {
+    match (
+        a.and_then(|c| c.summary.as_ref()),
+        b.and_then(|c| c.summary.as_ref()),
+    ) {
+        (Some(a), Some(b)) => format!("{:.2}", a.fps / b.fps),
+        _ => "–".into(),
+    }
+}
+
+/// The header lines: machine, placement and workload levels.
+pub fn preamble(results: &Results) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "Machine: {}  ", results.machine.line());
+    if let Some(rt) = &results.round_trip.before {
+        let after = results
+            .round_trip
+            .after
+            .as_ref()
+            .map_or(String::new(), |a| format!(", after {:.0} ns", a.median_ns));
+        let _ = writeln!(
+            out,
+            "Cross-core round trip (cores {},{}): before {:.0} ns{after}  ",
+            rt.cores[0], rt.cores[1], rt.median_ns
+        );
+    }
+    let levels: Vec<String> = results
+        .calibration
+        .levels
+        .iter()
+        .map(|l| format!("{}: {:.0} µs", l.workload, l.micros))
+        .collect();
+    let _ = writeln!(out, "Workload levels: {}  ", levels.join(", "));
+    let _ = writeln!(
+        out,
+        "Run: {} ({} cells), started {}",
+        results.config.name,
+        results.cells.len(),
+        results.started
+    );
+    out
+}
+
+/// The whole markdown report.
+pub fn to_string(results: &Results) -> String {
+    let mut out = String::from("# oceanbench results\n\n");
+    out.push_str(&preamble(results));
+    out.push('\n');
+    out.push_str(&tables(results));
+    let failed: Vec<&Cell> = results.cells.iter().filter(|c| c.error.is_some()).collect();
+    if !failed.is_empty() {
+        out.push_str("\n## Failed cells\n\n");
+        for c in failed {
+            let _ = writeln!(
+                out,
+                "- {}: {}",
+                c.key.label(),
+                c.error.as_deref().unwrap_or("")
+            );
+        }
+    }
+    out
+}
+
+/// One Figure 5-1 table per (sync, threading, normals, kernel) found among threaded cells; the
+/// serial column comes from the serial cell of the same size, workload, normals and kernel.
+pub fn tables(results: &Results) -> String {
+    let mut groups: Vec<CellKey> = Vec::new();
+    for c in &results.cells {
+        let g = CellKey {
+            size: 0,
+            workload: 0,
+            mode: Mode::Up,
+            ..c.key.clone()
+        };
+        if c.key.mode != Mode::Serial && !groups.contains(&g) {
+            groups.push(g);
+        }
+    }
+    if groups.is_empty() {
+        // A serial-only run still gets one table.
+        if let Some(c) = results.cells.first() {
+            groups.push(CellKey {
+                size: 0,
+                workload: 0,
+                mode: Mode::Up,
+                sync: None,
+                threading: None,
+                ..c.key.clone()
+            });
+        }
+    }
+    let mut rows: Vec<(usize, usize)> = Vec::new();
+    for c in &results.cells {
+        if !rows.contains(&(c.key.size, c.key.workload)) {
+            rows.push((c.key.size, c.key.workload));
+        }
+    }
+    let mut out = String::new();
+    for g in groups {
+        let _ = writeln!(
+            out,
+            "### FPS, {} hand-off, {} helper, {} normals, {} kernel\n",
+            g.sync.map_or("no", |s| s.name()),
+            g.threading.map_or("no", |t| t.name()),
+            g.normals.name(),
+            g.kernel.name()
+        );
+        out.push_str("| mesh | workload | serial | UP | DP | DP÷UP | DP÷serial |\n");
+        out.push_str("|---|---:|---:|---:|---:|---:|---:|\n");
+        for &(size, workload) in &rows {
+            let find = |mode: Mode| {
+                let serial = mode == Mode::Serial;
+                results.cell(&CellKey {
+                    size,
+                    workload,
+                    mode,
+                    sync: if serial { None } else { g.sync },
+                    threading: if serial { None } else { g.threading },
+                    normals: g.normals,
+                    kernel: g.kernel,
+                })
+            };
+            let (s, u, d) = (find(Mode::Serial), find(Mode::Up), find(Mode::Dp));
+            let _ = writeln!(
+                out,
+                "| {size}×{size} | {workload} | {} | {} | {} | {} | {} |",
+                fps(s),
+                fps(u),
+                fps(d),
+                ratio(d, u),
+                ratio(d, s)
+            );
+        }
+        out.push('\n');
+    }
+    out
+}

@@ -1,0 +1,23 @@
+//! Outputs drawn from a results file: JSON (the file itself), a tidy CSV and the Figure 5-1
+//! markdown table. Each is rewritten whole, atomically, after every finished cell.
+
+pub mod csv;
+pub mod json;
+pub mod markdown;
+
+use crate::results::Results;
+use std::path::Path;
+
+/// Writes `results.json`, `results.csv` and `results.md` into `dir`, each atomically.
+pub fn write_all(dir: &Path, results: &Results) -> std::io::Result<()> {
+    json::write_atomic(
+        &dir.join("results.json"),
+        json::to_string(results)?.as_bytes(),
+    )?;
+    json::write_atomic(&dir.join("results.csv"), csv::to_string(results).as_bytes())?;
+    json::write_atomic(
+        &dir.join("results.md"),
+        markdown::to_string(results).as_bytes(),
+    )?;
+    Ok(())
+}
