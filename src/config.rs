@@ -168,18 +168,22 @@ pub fn default_levels() -> Vec<Level> {
     ]
 }
 
-fn parse_json<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> Result<T, InputError> {
-    let de = &mut serde_json::Deserializer::from_str(text);
-    serde_path_to_error::deserialize(de).map_err(|e| {
+/// Parses a JSON object into `T`; errors name the field path (`modes[1]: unknown variant ...`).
+fn parse_object<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, InputError> {
+    let value: serde_json::Value =
+        serde_json::from_str(text).map_err(|e| InputError(format!("not valid JSON: {e}")))?;
+    if !value.is_object() {
+        return Err(InputError(
+            "must be a JSON object such as {\"sizes\": [40, 128]}".into(),
+        ));
+    }
+    serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
-        let inner = e.into_inner();
-        let msg = inner.to_string();
-        // serde_json appends " at line L column C"; the field path says more.
-        let msg = msg.split(" at line ").next().unwrap_or(&msg).to_string();
+        let msg = e.into_inner().to_string();
         if path == "." || path.is_empty() {
-            InputError(format!("{what}: {msg}"))
+            InputError(msg)
         } else {
-            InputError(format!("{what}: {path}: {msg}"))
+            InputError(format!("{path}: {msg}"))
         }
     })
 }
@@ -187,7 +191,8 @@ fn parse_json<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> Result<
 impl SweepConfig {
     /// Parses a config file's text and validates it.
     pub fn from_json(text: &str) -> Result<Self, InputError> {
-        let config: SweepConfig = parse_json(text, "config")?;
+        let config: SweepConfig =
+            parse_object(text).map_err(|e| InputError(format!("config: {e}")))?;
         config.validate()?;
         Ok(config)
     }
@@ -319,8 +324,20 @@ impl SweepConfig {
         no_repeats("threading", &self.threading)?;
         no_repeats("normals", &self.normals)?;
         no_repeats("kernel", &self.kernel)?;
+        if !(self.spacing.is_finite() && self.spacing > 0.0) {
+            return Err(InputError(format!(
+                "spacing: must be a finite number > 0, got {}",
+                self.spacing
+            )));
+        }
         for &n in &self.sizes {
-            let grid = Grid::new(n, self.spacing).map_err(|e| InputError(format!("sizes: {e}")))?;
+            if !(2..=mesh::MAX_SIZE).contains(&n) {
+                return Err(InputError(format!(
+                    "sizes: {n} is not allowed; sizes are 2 to {}",
+                    mesh::MAX_SIZE
+                )));
+            }
+            let grid = Grid::new(n, self.spacing)?;
             if self.normals.contains(&NormalMethod::Lookup)
                 && normals::lookup_work(n) > normals::LOOKUP_MAX_WORK
             {

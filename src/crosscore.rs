@@ -58,7 +58,7 @@ pub fn round_trip(a: usize, b: usize, batches: usize) -> RoundTrip {
                 while line.0.load(Ordering::Acquire) != 2 * i + 2 {
                     std::hint::spin_loop();
                 }
-                if (i + 1) % BATCH == 0 {
+                if (i + 1).is_multiple_of(BATCH) {
                     // The first batch is a warm-up and is not kept.
                     if i + 1 > BATCH {
                         per_trip.push(start.elapsed().as_nanos() as f64 / BATCH as f64);

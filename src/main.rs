@@ -25,6 +25,9 @@ fn clap_line(err: &clap::Error) -> String {
                 .unwrap_or_default();
             format!("{arg}: invalid value '{value}'{why}{allowed}")
         }
+        ErrorKind::MissingRequiredArgument if !arg.is_empty() => {
+            format!("missing required arguments: {arg}")
+        }
         _ => {
             let first = err.render().to_string();
             let line = first.lines().next().unwrap_or("invalid arguments");

@@ -40,7 +40,7 @@ pub fn poll<T, R: Relax>(
         }
         R::relax();
         polls = polls.wrapping_add(1);
-        if polls % 256 == 0 && Instant::now() >= deadline {
+        if polls.is_multiple_of(256) && Instant::now() >= deadline {
             return ready().ok_or(TimedOut);
         }
     }

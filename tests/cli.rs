@@ -1,0 +1,234 @@
+//! The binary as a user meets it: bad input exits 2 with one line, the mesh CSV, a tiny sweep's
+//! files, and the shipped configs.
+
+use oceanbench::config::SweepConfig;
+use oceanbench::ocean::WaveSet;
+use oceanbench::results::Results;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn oceanbench(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_oceanbench"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the binary runs")
+}
+
+/// Asserts exit status 2 and a single stderr line containing every `needle`.
+fn assert_input_error(args: &[&str], needles: &[&str]) {
+    let out = oceanbench(args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: {stderr}");
+    for needle in needles {
+        assert!(
+            stderr.contains(needle),
+            "{args:?}: {stderr:?} lacks {needle:?}"
+        );
+    }
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.to_string_lossy().into_owned()
+}
+
+#[test]
+fn bad_flags_exit_2_with_one_line() {
+    assert_input_error(&["run", "--mode", "tri"], &["--mode", "serial, up, dp"]);
+    assert_input_error(&["run", "--sync", "futex"], &["--sync", "condvar-std"]);
+    assert_input_error(&["run", "--normals", "x"], &["lookup, neighbors, analytic"]);
+    assert_input_error(&["run", "--size", "1"], &["size", "2 to"]);
+    assert_input_error(&["run", "--size", "abc"], &["--size"]);
+    assert_input_error(&["run", "--workload", "9"], &["workloads", "0 to 3"]);
+    assert_input_error(&["run", "--trials", "0"], &["trials"]);
+    assert_input_error(&["run", "--cores", "0,999"], &["cores", "allowed"]);
+    assert_input_error(
+        &["run", "--normals", "lookup", "--size", "300"],
+        &["lookup"],
+    );
+    assert_input_error(&["run", "--bogus"], &["--bogus"]);
+    assert_input_error(&["fly"], &["fly"]);
+    assert_input_error(
+        &[
+            "mesh",
+            "--size",
+            "4",
+            "--time",
+            "1",
+            "--waves",
+            "/nonexistent.json",
+            "--out",
+            "/tmp/x.csv",
+        ],
+        &["/nonexistent.json"],
+    );
+}
+
+#[test]
+fn bad_configs_exit_2_naming_the_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        (r#"{"sizez": [40]}"#, vec!["sizez", "sizes"]),
+        (r#"{"modes": ["up", "tri"]}"#, vec!["modes[1]", "serial"]),
+        (r#"{"workloads": [7]}"#, vec!["workloads", "7"]),
+        (r#"{"sizes": [1]}"#, vec!["sizes", "2 to"]),
+        (r#"{"sizes": []}"#, vec!["sizes", "at least one"]),
+        (r#"{"trials": -1}"#, vec!["trials"]),
+        (
+            r#"{"min_seconds": 5, "max_seconds": 1}"#,
+            vec!["max_seconds"],
+        ),
+        (
+            r#"{"workload_levels": [{"micros": -5}]}"#,
+            vec!["workload_levels[0].micros"],
+        ),
+        (
+            r#"{"workload_levels": [{"step_fraction": 1}]}"#,
+            vec!["workload_levels[0]"],
+        ),
+        (
+            r#"{"waves": [{"amplitude": 1, "wavelength": 0, "speed": 1, "direction": [1, 0], "steepness": 2}]}"#,
+            vec!["waves[0].wavelength"],
+        ),
+        (r#"{"sync": ["atomic", "atomic"]}"#, vec!["sync", "twice"]),
+        (r#"{"cores": [0, 0]}"#, vec!["cores", "two different"]),
+        (r#"[1, 2]"#, vec!["must be a JSON object"]),
+        (r#"{"sizes": [40"#, vec!["not valid JSON"]),
+    ];
+    for (i, (text, needles)) in cases.iter().enumerate() {
+        let path = write(dir.path(), &format!("bad{i}.json"), text);
+        let out = dir.path().join(format!("out{i}"));
+        assert_input_error(&["sweep", &path, "--out", out.to_str().unwrap()], needles);
+        assert!(
+            !out.join("results.json").exists(),
+            "nothing is written for a bad config"
+        );
+    }
+    assert_input_error(
+        &["sweep", "/nonexistent/config.json"],
+        &["/nonexistent/config.json"],
+    );
+}
+
+#[test]
+fn mesh_csv_has_one_row_per_vertex_and_matches_the_equations() {
+    let dir = tempfile::tempdir().unwrap();
+    let waves = write(
+        dir.path(),
+        "waves.json",
+        r#"{"waves": [
+            {"amplitude": 0.7, "wavelength": 9.0, "speed": 1.5, "direction": [1.0, 2.0], "steepness": 2.5},
+            {"amplitude": 0.3, "wavelength": 4.0, "speed": 0.5, "direction": [-1.0, 0.3], "steepness": 1.0, "enabled": true},
+            {"amplitude": 5.0, "wavelength": 3.0, "speed": 0.5, "direction": [0.0, 1.0], "steepness": 1.0, "enabled": false}
+        ]}"#,
+    );
+    let csv = dir.path().join("frame.csv");
+    let out = oceanbench(&[
+        "mesh",
+        "--size",
+        "12",
+        "--time",
+        "3.5",
+        "--spacing",
+        "0.5",
+        "--waves",
+        &waves,
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let set = WaveSet::load(Path::new(&waves)).unwrap();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("i,j,x,y,z,nx,ny,nz"));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 144);
+    for r in &rows {
+        let (i, j, x, y) = (r[0], r[1], r[2], r[3]);
+        assert_eq!((x, y), (j * 0.5, i * 0.5));
+        assert!((r[4] - set.height_f64(x, y, 3.5)).abs() < 1e-4);
+        let n = set.normal_f64(x, y, 3.5);
+        for c in 0..3 {
+            assert!((r[5 + c] - n[c]).abs() < 1e-4, "{r:?} vs {n:?}");
+        }
+    }
+}
+
+#[test]
+fn a_tiny_sweep_writes_json_csv_and_markdown() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = write(
+        dir.path(),
+        "tiny.json",
+        r#"{"name": "tiny", "sizes": [8, 12], "workloads": [0, 1], "sync": ["atomic", "condvar"],
+            "trials": 2, "warmup_frames": 2, "min_frames": 5, "min_seconds": 0.0,
+            "workload_levels": [{"micros": 0}, {"micros": 20}]}"#,
+    );
+    let out = dir.path().join("run");
+    let status = oceanbench(&["sweep", &config, "--out", out.to_str().unwrap(), "--quiet"]);
+    let stdout = String::from_utf8_lossy(&status.stdout);
+    assert!(
+        status.status.success(),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    assert!(stdout.contains("| mesh | workload | serial | UP | DP | DP÷UP | DP÷serial |"));
+    let results = Results::load(&out).unwrap();
+    // 2 sizes × 2 workloads × (serial + 2 methods × (up + dp)).
+    assert_eq!(results.cells.len(), 2 * 2 * 5);
+    assert!(results.finished.is_some());
+    for cell in &results.cells {
+        let s = cell.summary.as_ref().expect("every cell measured");
+        assert_eq!(s.fps_trials.len(), 2);
+        assert_eq!(s.frames, 10);
+        assert!(s.fps > 0.0 && s.frame_time_ms.p99 >= s.frame_time_ms.median);
+    }
+    assert_eq!(results.calibration.levels[1].micros, 20.0);
+    assert!(results.calibration.levels[1].iterations > 0);
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 21);
+    let md = std::fs::read_to_string(out.join("results.md")).unwrap();
+    assert!(md.contains("12×12") && md.contains("condvar"));
+    // A second sweep into the same directory is refused and keeps the first results whole.
+    let before = std::fs::read(out.join("results.json")).unwrap();
+    assert_input_error(
+        &["sweep", &config, "--out", out.to_str().unwrap()],
+        &["already holds"],
+    );
+    assert_eq!(std::fs::read(out.join("results.json")).unwrap(), before);
+}
+
+#[test]
+fn shipped_configs_are_valid_and_figure_5_1_is_the_default() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs");
+    let figure = SweepConfig::load(&root.join("figure-5-1.json")).unwrap();
+    let default = SweepConfig::default();
+    assert_eq!(
+        SweepConfig {
+            description: String::new(),
+            ..figure
+        },
+        default
+    );
+    for name in ["quick.json", "sync-primitives.json"] {
+        SweepConfig::load(&root.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+    }
+}
+
+#[test]
+fn help_shows_examples() {
+    let out = oceanbench(&["--help"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("Examples:") && text.contains("oceanbench sweep"));
+}
