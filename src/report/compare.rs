@@ -1,0 +1,705 @@
+//! Noise-aware comparisons of FPS: two runs cell by cell, or the values of one parameter against
+//! a baseline value inside one run.
+//!
+//! Each comparison is the change of the mean trial FPS, with a 95% percentile interval from a
+//! seeded bootstrap of the ratio of means (criterion's approach). A change counts only when its
+//! whole interval clears the threshold, so two noisy runs of the same code compare as "within
+//! noise" rather than as a coin flip.
+
+use crate::frame_loop::Mode;
+use crate::measure::quantile;
+use crate::ocean::{Kernel, NormalMethod};
+use crate::results::{Cell, CellKey, Results};
+use crate::sync::SyncMethod;
+use clap::ValueEnum;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+use std::fmt::Write;
+
+/// The threshold the CLI uses when none is given, in percent.
+pub const DEFAULT_THRESHOLD_PCT: f64 = 5.0;
+
+/// Resamples per bootstrap: enough for stable 2.5%/97.5% percentiles, cheap for a few hundred cells.
+const RESAMPLES: usize = 10_000;
+
+/// The parameter a within-run comparison varies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum CompareBy {
+    /// Hand-off method (serial cells have none and are left out).
+    Sync,
+    /// serial, up or dp.
+    Mode,
+    /// Normal method.
+    Normals,
+    /// Kernel.
+    Kernel,
+}
+
+impl CompareBy {
+    /// The name used in flags and output.
+    pub fn name(self) -> &'static str {
+        match self {
+            CompareBy::Sync => "sync",
+            CompareBy::Mode => "mode",
+            CompareBy::Normals => "normals",
+            CompareBy::Kernel => "kernel",
+        }
+    }
+
+    /// Every value the parameter can take, in the order the enums declare them.
+    fn all_values(self) -> Vec<&'static str> {
+        match self {
+            CompareBy::Sync => SyncMethod::value_variants()
+                .iter()
+                .map(|v| v.name())
+                .collect(),
+            CompareBy::Mode => Mode::value_variants().iter().map(|v| v.name()).collect(),
+            CompareBy::Normals => NormalMethod::value_variants()
+                .iter()
+                .map(|v| v.name())
+                .collect(),
+            CompareBy::Kernel => Kernel::value_variants().iter().map(|v| v.name()).collect(),
+        }
+    }
+
+    /// The cell's value of this parameter; `None` when the cell has none (serial has no sync).
+    fn value(self, key: &CellKey) -> Option<&'static str> {
+        match self {
+            CompareBy::Sync => key.sync.map(SyncMethod::name),
+            CompareBy::Mode => Some(key.mode.name()),
+            CompareBy::Normals => Some(key.normals.name()),
+            CompareBy::Kernel => Some(key.kernel.name()),
+        }
+    }
+}
+
+/// What a comparison concluded about one pair of cells.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Verdict {
+    /// The whole interval lies above +threshold.
+    Improved,
+    /// The whole interval lies below -threshold.
+    Regressed,
+    /// The interval reaches into [-threshold, +threshold].
+    WithinNoise,
+}
+
+impl Verdict {
+    /// The name used in output.
+    pub fn name(self) -> &'static str {
+        match self {
+            Verdict::Improved => "improved",
+            Verdict::Regressed => "regressed",
+            Verdict::WithinNoise => "within noise",
+        }
+    }
+}
+
+/// One compared pair: NEW (or the alternative) against BASE (or the baseline).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Change {
+    /// Between runs the cell's label; within a run the group's label (the key without the varied parameter).
+    pub label: String,
+    /// Within a run, e.g. `spin vs atomic`; absent between runs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub versus: Option<String>,
+    /// Mean trial FPS of the base (or baseline) cell.
+    pub base_fps: f64,
+    /// Mean trial FPS of the new (or alternative) cell.
+    pub new_fps: f64,
+    /// Change of NEW against BASE, in percent.
+    pub change_pct: f64,
+    /// Lower end of the 95% interval of the change, in percent.
+    pub ci_low_pct: f64,
+    /// Upper end of the 95% interval of the change, in percent.
+    pub ci_high_pct: f64,
+    /// A side had a single trial: the interval is the point estimate alone.
+    pub single_trial: bool,
+    /// The classification against the threshold.
+    pub verdict: Verdict,
+}
+
+/// The outcome of a comparison, ready to render.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Comparison {
+    /// A change counts only when its whole interval clears this many percent.
+    pub threshold_pct: f64,
+    /// Within a run: the varied parameter; absent between runs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub by: Option<CompareBy>,
+    /// Within a run: the baseline value; absent between runs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub baseline: Option<String>,
+    /// Compared pairs: regressions first (worst first), then improvements, then the rest.
+    pub changes: Vec<Change>,
+    /// Cells only in BASE (within a run: baseline cells with nothing to compare against).
+    pub only_in_base: Vec<String>,
+    /// Cells only in NEW (within a run: cells whose baseline cell is missing).
+    pub only_in_new: Vec<String>,
+    /// Cells that failed or measured no FPS, so their pairs could not be compared.
+    pub failed: Vec<String>,
+}
+
+/// Why a within-run comparison could not be made.
+#[derive(Debug, PartialEq, thiserror::Error)]
+pub enum CompareError {
+    /// The baseline is not a value of the parameter at all.
+    #[error("'{baseline}' is not a {by} value; this run has {by}: {present}")]
+    UnknownBaseline {
+        /// The varied parameter.
+        by: &'static str,
+        /// The value asked for.
+        baseline: String,
+        /// The values the run has, comma separated.
+        present: String,
+    },
+    /// The baseline is a valid value that the run did not measure.
+    #[error("no {by} '{baseline}' cells in this run; it has {by}: {present}")]
+    AbsentBaseline {
+        /// The varied parameter.
+        by: &'static str,
+        /// The value asked for.
+        baseline: String,
+        /// The values the run has, comma separated.
+        present: String,
+    },
+    /// The run measured only the baseline value, so there is nothing to rank.
+    #[error("this run has only {by} '{baseline}'; nothing to compare it with")]
+    NoAlternative {
+        /// The varied parameter.
+        by: &'static str,
+        /// The baseline value.
+        baseline: String,
+    },
+}
+
+/// Compares every cell of `new` with the cell of `base` that has the same key.
+pub fn between(base: &Results, new: &Results, threshold_pct: f64) -> Comparison {
+    let new_by_key = first_by_key(&new.cells);
+    let base_by_key = first_by_key(&base.cells);
+    let mut out = Comparison::empty(threshold_pct, None, None);
+    let mut pairs = Vec::new();
+    for b in unique(&base.cells) {
+        match new_by_key.get(&b.key) {
+            Some(n) => pairs.push(Pair {
+                base: b,
+                new: n,
+                label: b.key.label(),
+                versus: None,
+            }),
+            None => out.only_in_base.push(b.key.label()),
+        }
+    }
+    for n in unique(&new.cells) {
+        if !base_by_key.contains_key(&n.key) {
+            out.only_in_new.push(n.key.label());
+        }
+    }
+    out.fill(pairs);
+    out
+}
+
+/// Ranks every other value of `by` against `baseline`, cell group by cell group, in one run.
+///
+/// A group is every parameter but `by`. For `by = mode` the serial cell has no sync or threading,
+/// so a serial cell pairs with every up/dp cell of the same size, workload, normals and kernel,
+/// while up and dp pair by the full key but mode: that is the comparison Figure 5-1 makes.
+/// For `by = sync` serial cells have no value and are left out.
+pub fn within(
+    results: &Results,
+    by: CompareBy,
+    baseline: &str,
+    threshold_pct: f64,
+) -> Result<Comparison, CompareError> {
+    let cells = unique(&results.cells);
+    let mut present: Vec<&'static str> = Vec::new();
+    for c in &cells {
+        if let Some(v) = by.value(&c.key) {
+            if !present.contains(&v) {
+                present.push(v);
+            }
+        }
+    }
+    let listed = if present.is_empty() {
+        "none".to_string()
+    } else {
+        present.join(", ")
+    };
+    if !by.all_values().contains(&baseline) {
+        return Err(CompareError::UnknownBaseline {
+            by: by.name(),
+            baseline: baseline.into(),
+            present: listed,
+        });
+    }
+    if !present.contains(&baseline) {
+        return Err(CompareError::AbsentBaseline {
+            by: by.name(),
+            baseline: baseline.into(),
+            present: listed,
+        });
+    }
+    if present.len() == 1 {
+        return Err(CompareError::NoAlternative {
+            by: by.name(),
+            baseline: baseline.into(),
+        });
+    }
+
+    let (bases, others): (Vec<&Cell>, Vec<&Cell>) = cells
+        .into_iter()
+        .filter(|c| by.value(&c.key).is_some())
+        .partition(|c| by.value(&c.key) == Some(baseline));
+    let mut out = Comparison::empty(threshold_pct, Some(by), Some(baseline.into()));
+    let mut pairs = Vec::new();
+    let mut partnered = vec![false; others.len()];
+    for b in &bases {
+        let mut any = false;
+        for (i, o) in others.iter().enumerate() {
+            if partners(by, &b.key, &o.key) {
+                any = true;
+                partnered[i] = true;
+                let shown = if o.key.mode == Mode::Serial {
+                    &b.key
+                } else {
+                    &o.key
+                };
+                pairs.push(Pair {
+                    base: b,
+                    new: o,
+                    label: group_label(shown, by),
+                    versus: Some(format!("{} vs {baseline}", by.value(&o.key).unwrap_or("?"))),
+                });
+            }
+        }
+        if !any {
+            out.only_in_base.push(b.key.label());
+        }
+    }
+    for (o, done) in others.iter().zip(partnered) {
+        if !done {
+            out.only_in_new.push(o.key.label());
+        }
+    }
+    out.fill(pairs);
+    Ok(out)
+}
+
+/// Whether a baseline cell and another cell belong to the same group.
+fn partners(by: CompareBy, base: &CellKey, other: &CellKey) -> bool {
+    match by {
+        CompareBy::Sync => {
+            CellKey {
+                sync: other.sync,
+                ..base.clone()
+            } == *other
+        }
+        CompareBy::Normals => {
+            CellKey {
+                normals: other.normals,
+                ..base.clone()
+            } == *other
+        }
+        CompareBy::Kernel => {
+            CellKey {
+                kernel: other.kernel,
+                ..base.clone()
+            } == *other
+        }
+        CompareBy::Mode => {
+            let same_rest = base.size == other.size
+                && base.workload == other.workload
+                && base.normals == other.normals
+                && base.kernel == other.kernel;
+            let serial = base.mode == Mode::Serial || other.mode == Mode::Serial;
+            same_rest && (serial || (base.sync == other.sync && base.threading == other.threading))
+        }
+    }
+}
+
+/// The label of a key without the varied parameter.
+fn group_label(key: &CellKey, by: CompareBy) -> String {
+    let mut parts = vec![format!("{}", key.size), format!("w{}", key.workload)];
+    if by != CompareBy::Mode {
+        parts.push(key.mode.name().into());
+    }
+    if by != CompareBy::Sync {
+        if let Some(s) = key.sync {
+            parts.push(s.name().into());
+        }
+    }
+    if let Some(t) = key.threading {
+        parts.push(t.name().into());
+    }
+    if by != CompareBy::Normals {
+        parts.push(key.normals.name().into());
+    }
+    if by != CompareBy::Kernel {
+        parts.push(key.kernel.name().into());
+    }
+    parts.join(" ")
+}
+
+/// The first cell of each key: a rerun cell appended to a file must not be compared twice.
+fn unique(cells: &[Cell]) -> Vec<&Cell> {
+    let mut seen = std::collections::HashSet::new();
+    cells.iter().filter(|c| seen.insert(&c.key)).collect()
+}
+
+fn first_by_key(cells: &[Cell]) -> HashMap<&CellKey, &Cell> {
+    let mut map = HashMap::new();
+    for c in cells {
+        map.entry(&c.key).or_insert(c);
+    }
+    map
+}
+
+struct Pair<'a> {
+    base: &'a Cell,
+    new: &'a Cell,
+    label: String,
+    versus: Option<String>,
+}
+
+/// A cell's trial FPS, or why it cannot be compared.
+fn trials(cell: &Cell) -> Result<Vec<f64>, String> {
+    let Some(s) = &cell.summary else {
+        return Err(match &cell.error {
+            Some(e) => format!("{}: {e}", cell.key.label()),
+            None => format!("{}: no measurements", cell.key.label()),
+        });
+    };
+    // Older files may lack per-trial values; the headline FPS then stands as one trial.
+    let t = if s.fps_trials.is_empty() {
+        vec![s.fps]
+    } else {
+        s.fps_trials.clone()
+    };
+    if t.iter().all(|f| f.is_finite() && *f > 0.0) {
+        Ok(t)
+    } else {
+        Err(format!("{}: no FPS measured", cell.key.label()))
+    }
+}
+
+impl Comparison {
+    fn empty(threshold_pct: f64, by: Option<CompareBy>, baseline: Option<String>) -> Comparison {
+        Comparison {
+            threshold_pct,
+            by,
+            baseline,
+            changes: Vec::new(),
+            only_in_base: Vec::new(),
+            only_in_new: Vec::new(),
+            failed: Vec::new(),
+        }
+    }
+
+    fn fill(&mut self, pairs: Vec<Pair>) {
+        let threshold = self.threshold_pct.abs();
+        for p in pairs {
+            let (b, n) = match (trials(p.base), trials(p.new)) {
+                (Ok(b), Ok(n)) => (b, n),
+                (b, n) => {
+                    for why in [b.err(), n.err()].into_iter().flatten() {
+                        if !self.failed.contains(&why) {
+                            self.failed.push(why);
+                        }
+                    }
+                    continue;
+                }
+            };
+            let seed = fnv1a(&format!("{} {:?}", p.label, p.versus));
+            self.changes
+                .push(change(p.label, p.versus, &b, &n, threshold, seed));
+        }
+        // Stable sort: within-noise rows keep the run's order, so groups stay together.
+        self.changes.sort_by(|a, b| {
+            let rank = |c: &Change| match c.verdict {
+                Verdict::Regressed => (0, c.change_pct),
+                Verdict::Improved => (1, -c.change_pct),
+                Verdict::WithinNoise => (2, 0.0),
+            };
+            let (ra, ka) = rank(a);
+            let (rb, kb) = rank(b);
+            ra.cmp(&rb).then(ka.total_cmp(&kb))
+        });
+    }
+
+    /// True when any compared cell regressed beyond the noise.
+    pub fn regressed(&self) -> bool {
+        self.count(Verdict::Regressed) > 0
+    }
+
+    /// How many changes have `verdict`.
+    pub fn count(&self, verdict: Verdict) -> usize {
+        self.changes.iter().filter(|c| c.verdict == verdict).count()
+    }
+
+    /// "N improved, M regressed, K within noise (threshold T%)".
+    pub fn summary_line(&self) -> String {
+        format!(
+            "{} improved, {} regressed, {} within noise (threshold {}%)",
+            self.count(Verdict::Improved),
+            self.count(Verdict::Regressed),
+            self.count(Verdict::WithinNoise),
+            self.threshold_pct.abs()
+        )
+    }
+
+    fn headers(&self) -> [&'static str; 2] {
+        if self.by.is_some() {
+            ["Baseline FPS", "Other FPS"]
+        } else {
+            ["Base FPS", "New FPS"]
+        }
+    }
+
+    fn unmatched_titles(&self) -> [&'static str; 2] {
+        if self.by.is_some() {
+            [
+                "Baseline cells with nothing to compare",
+                "Cells without a baseline cell",
+            ]
+        } else {
+            ["Only in base", "Only in new"]
+        }
+    }
+
+    fn rows(&self, changes: &[&Change]) -> Vec<[String; 6]> {
+        changes
+            .iter()
+            .map(|c| {
+                let mark = if c.single_trial { "*" } else { "" };
+                let label = match &c.versus {
+                    Some(v) => format!("{}: {v}", c.label),
+                    None => c.label.clone(),
+                };
+                [
+                    c.verdict.name().to_string(),
+                    format!("{:+.1}%", c.change_pct),
+                    format!("[{:+.1}%, {:+.1}%]{mark}", c.ci_low_pct, c.ci_high_pct),
+                    format!("{:.1}", c.base_fps),
+                    format!("{:.1}", c.new_fps),
+                    label,
+                ]
+            })
+            .collect()
+    }
+
+    fn title(&self) -> String {
+        match (&self.by, &self.baseline) {
+            (Some(by), Some(b)) => format!("FPS by {} against {b}", by.name()),
+            _ => "FPS, new against base".to_string(),
+        }
+    }
+
+    /// Aligned columns for a terminal.
+    pub fn to_text(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(out, "{}: {}", self.title(), self.summary_line());
+        let [base, new] = self.headers();
+        let header = [
+            "Verdict".to_string(),
+            "Change".into(),
+            "95% CI".into(),
+            base.into(),
+            new.into(),
+            "Cell".into(),
+        ];
+        let all: Vec<&Change> = self.changes.iter().collect();
+        let rows = self.rows(&all);
+        if !rows.is_empty() {
+            let mut widths = header.clone().map(|h| h.chars().count());
+            for r in &rows {
+                for (w, v) in widths.iter_mut().zip(r) {
+                    *w = (*w).max(v.chars().count());
+                }
+            }
+            // Numbers right-aligned so magnitudes line up; words left-aligned.
+            let right = [false, true, true, true, true, false];
+            for r in std::iter::once(&header).chain(&rows) {
+                let cols: Vec<String> = r
+                    .iter()
+                    .zip(widths)
+                    .zip(right)
+                    .map(|((v, w), right)| {
+                        let pad = " ".repeat(w - v.chars().count());
+                        if right {
+                            format!("{pad}{v}")
+                        } else {
+                            format!("{v}{pad}")
+                        }
+                    })
+                    .collect();
+                let _ = writeln!(out, "{}", cols.join("  ").trim_end());
+            }
+        }
+        if self.changes.iter().any(|c| c.single_trial) {
+            let _ = writeln!(
+                out,
+                "* one trial on a side: no interval, point estimate only"
+            );
+        }
+        let [only_base, only_new] = self.unmatched_titles();
+        for (title, list) in [
+            (only_base, &self.only_in_base),
+            (only_new, &self.only_in_new),
+            ("Failed", &self.failed),
+        ] {
+            if !list.is_empty() {
+                let _ = writeln!(out, "{title} ({}):", list.len());
+                for l in list {
+                    let _ = writeln!(out, "  {l}");
+                }
+            }
+        }
+        out
+    }
+
+    /// A table to paste into a pull-request comment; within-noise rows folded away.
+    pub fn to_markdown(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(out, "**{}**: {}\n", self.title(), self.summary_line());
+        let (notable, quiet): (Vec<&Change>, Vec<&Change>) = self
+            .changes
+            .iter()
+            .partition(|c| c.verdict != Verdict::WithinNoise);
+        let [base, new] = self.headers();
+        let table = |out: &mut String, changes: &[&Change]| {
+            let _ = writeln!(
+                out,
+                "| Verdict | Change | 95% CI | {base} | {new} | Cell |\n|---|--:|--:|--:|--:|---|"
+            );
+            for r in self.rows(changes) {
+                let r = r.map(|v| v.replace('|', "\\|"));
+                let _ = writeln!(out, "| {} |", r.join(" | "));
+            }
+        };
+        if !notable.is_empty() {
+            table(&mut out, &notable);
+            out.push('\n');
+        }
+        if !quiet.is_empty() {
+            let _ = writeln!(
+                out,
+                "<details><summary>{} within noise</summary>\n",
+                quiet.len()
+            );
+            table(&mut out, &quiet);
+            let _ = writeln!(out, "\n</details>\n");
+        }
+        if self.changes.iter().any(|c| c.single_trial) {
+            let _ = writeln!(
+                out,
+                "\\* one trial on a side: no interval, point estimate only\n"
+            );
+        }
+        let [only_base, only_new] = self.unmatched_titles();
+        for (title, list) in [
+            (only_base, &self.only_in_base),
+            (only_new, &self.only_in_new),
+            ("Failed", &self.failed),
+        ] {
+            if !list.is_empty() {
+                let _ = writeln!(out, "**{title}** ({}):\n", list.len());
+                for l in list {
+                    let _ = writeln!(out, "- `{l}`");
+                }
+                out.push('\n');
+            }
+        }
+        out
+    }
+
+    /// The comparison as pretty JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("a comparison always serialises")
+    }
+}
+
+fn mean(values: &[f64]) -> f64 {
+    values.iter().sum::<f64>() / values.len() as f64
+}
+
+fn change(
+    label: String,
+    versus: Option<String>,
+    base: &[f64],
+    new: &[f64],
+    threshold: f64,
+    seed: u64,
+) -> Change {
+    let (base_fps, new_fps) = (mean(base), mean(new));
+    let change_pct = (new_fps / base_fps - 1.0) * 100.0;
+    // One trial has no spread to resample; pretending otherwise would invent certainty.
+    let single_trial = base.len() < 2 || new.len() < 2;
+    let (ci_low_pct, ci_high_pct) = if single_trial {
+        (change_pct, change_pct)
+    } else {
+        bootstrap(base, new, seed)
+    };
+    let verdict = if ci_low_pct > threshold {
+        Verdict::Improved
+    } else if ci_high_pct < -threshold {
+        Verdict::Regressed
+    } else {
+        Verdict::WithinNoise
+    };
+    Change {
+        label,
+        versus,
+        base_fps,
+        new_fps,
+        change_pct,
+        ci_low_pct,
+        ci_high_pct,
+        single_trial,
+        verdict,
+    }
+}
+
+/// 95% percentile interval of the change of the ratio of means, in percent.
+fn bootstrap(base: &[f64], new: &[f64], seed: u64) -> (f64, f64) {
+    let mut rng = SplitMix64(seed);
+    let mut resample = |xs: &[f64]| {
+        let sum: f64 = (0..xs.len()).map(|_| xs[rng.below(xs.len())]).sum();
+        sum / xs.len() as f64
+    };
+    let mut ratios: Vec<f64> = (0..RESAMPLES)
+        .map(|_| {
+            let b = resample(base);
+            let n = resample(new);
+            (n / b - 1.0) * 100.0
+        })
+        .collect();
+    ratios.sort_by(f64::total_cmp);
+    (quantile(&ratios, 0.025), quantile(&ratios, 0.975))
+}
+
+/// SplitMix64: a tiny, well-mixed generator; the interval must be the same on every run.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `0..n` by multiply-shift; the bias is far below anything a 95% interval shows.
+    fn below(&mut self, n: usize) -> usize {
+        ((u128::from(self.next()) * n as u128) >> 64) as usize
+    }
+}
+
+/// Seeds each pair from its label, so a cell's interval does not depend on which cells precede it.
+fn fnv1a(s: &str) -> u64 {
+    s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
