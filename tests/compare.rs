@@ -37,6 +37,10 @@ fn fixture_against_itself_is_all_within_noise() {
         .all(|c| c.ci_low_pct <= 0.0 && c.ci_high_pct >= 0.0));
     assert!(!c.regressed());
     assert!(c.only_in_base.is_empty() && c.only_in_new.is_empty() && c.failed.is_empty());
+    assert!(
+        !c.to_text().contains("-0.0%"),
+        "no change must not read as a loss"
+    );
     let n = r.cells.len();
     assert!(c.to_markdown().contains(&format!(
         "0 improved, 0 regressed, {n} within noise (threshold 5%)"

@@ -468,19 +468,20 @@ impl Comparison {
         }
     }
 
-    fn rows(&self, changes: &[&Change]) -> Vec<[String; 6]> {
+    /// `blank` pads unmarked intervals so that right-aligned text columns stay aligned.
+    fn rows(&self, changes: &[&Change], blank: &str) -> Vec<[String; 6]> {
         changes
             .iter()
             .map(|c| {
-                let mark = if c.single_trial { "*" } else { "" };
+                let mark = if c.single_trial { "*" } else { blank };
                 let label = match &c.versus {
                     Some(v) => format!("{}: {v}", c.label),
                     None => c.label.clone(),
                 };
                 [
                     c.verdict.name().to_string(),
-                    format!("{:+.1}%", c.change_pct),
-                    format!("[{:+.1}%, {:+.1}%]{mark}", c.ci_low_pct, c.ci_high_pct),
+                    pct(c.change_pct),
+                    format!("[{}, {}]{mark}", pct(c.ci_low_pct), pct(c.ci_high_pct)),
                     format!("{:.1}", c.base_fps),
                     format!("{:.1}", c.new_fps),
                     label,
@@ -510,7 +511,7 @@ impl Comparison {
             "Cell".into(),
         ];
         let all: Vec<&Change> = self.changes.iter().collect();
-        let rows = self.rows(&all);
+        let rows = self.rows(&all, " ");
         if !rows.is_empty() {
             let mut widths = header.clone().map(|h| h.chars().count());
             for r in &rows {
@@ -573,7 +574,7 @@ impl Comparison {
                 out,
                 "| Verdict | Change | 95% CI | {base} | {new} | Cell |\n|---|--:|--:|--:|--:|---|"
             );
-            for r in self.rows(changes) {
+            for r in self.rows(changes, "") {
                 let r = r.map(|v| v.replace('|', "\\|"));
                 let _ = writeln!(out, "| {} |", r.join(" | "));
             }
@@ -618,6 +619,12 @@ impl Comparison {
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).expect("a comparison always serialises")
     }
+}
+
+/// A signed percentage; what rounds to zero shows as +0.0%, since "-0.0%" reads as a loss.
+fn pct(v: f64) -> String {
+    let v = if (v * 10.0).round() == 0.0 { 0.0 } else { v };
+    format!("{v:+.1}%")
 }
 
 fn mean(values: &[f64]) -> f64 {
