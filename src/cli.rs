@@ -3,7 +3,7 @@
 use crate::config::{InputError, Level, SweepConfig};
 use crate::frame_loop::{Mode, Threading};
 use crate::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
-use crate::report;
+use crate::report::{self, compare, compare::CompareBy};
 use crate::results::Results;
 use crate::sweep::Sweep;
 use crate::sync::SyncMethod;
@@ -20,6 +20,9 @@ pub enum CliError {
     /// Something failed while running.
     #[error(transparent)]
     Run(#[from] anyhow::Error),
+    /// A comparison found a regression (its report is already printed).
+    #[error("a cell regressed beyond the threshold")]
+    Regressed,
 }
 
 impl CliError {
@@ -27,7 +30,7 @@ impl CliError {
     pub fn exit_code(&self) -> i32 {
         match self {
             CliError::Input(_) => 2,
-            CliError::Run(_) => 1,
+            CliError::Run(_) | CliError::Regressed => 1,
         }
     }
 }
@@ -61,6 +64,9 @@ pub enum Command {
         after_help = "Examples:\n  oceanbench sweep\n  oceanbench sweep configs/sync-primitives.json --out results/sync"
     )]
     Sweep(SweepArgs),
+    /// Compare two results files, or the alternatives within one run, with noise-aware verdicts.
+    #[command(after_help = "Exit status: 0 nothing regressed, 1 something regressed, 2 bad input.\n\nExamples:\n  oceanbench compare results/base results/new --threshold 5 --format markdown\n  oceanbench compare results/sync-primitives-X --by sync --baseline atomic")]
+    Compare(CompareArgs),
     /// Write one frame of the surface as CSV (i,j,x,y,z,nx,ny,nz).
     #[command(
         after_help = "Example:\n  oceanbench mesh --size 32 --time 10 --waves my-waves.json --out frame.csv"
@@ -128,6 +134,38 @@ pub struct SweepArgs {
     pub quiet: bool,
 }
 
+/// Output format of `oceanbench compare`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum CompareFormat {
+    /// Aligned columns for a terminal.
+    Text,
+    /// A table ready to paste into a pull-request comment.
+    Markdown,
+    /// Machine-readable.
+    Json,
+}
+
+/// Flags of `oceanbench compare`.
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    /// Baseline results (directory or results.json); with --by, the one run to compare within.
+    pub base: PathBuf,
+    /// New results to compare against BASE (omit with --by).
+    pub new: Option<PathBuf>,
+    /// Compare alternatives within one run along this parameter.
+    #[arg(long, value_enum, requires = "baseline", conflicts_with = "new")]
+    pub by: Option<CompareBy>,
+    /// The value of --by the others are ranked against (e.g. atomic, up, neighbors, reference).
+    #[arg(long, requires = "by")]
+    pub baseline: Option<String>,
+    /// A change counts only when its whole 95% interval clears this many percent.
+    #[arg(long, default_value_t = compare::DEFAULT_THRESHOLD_PCT)]
+    pub threshold: f64,
+    /// Output format.
+    #[arg(long, value_enum, default_value = "text")]
+    pub format: CompareFormat,
+}
+
 /// Flags of `oceanbench mesh`.
 #[derive(Debug, Args)]
 pub struct MeshArgs {
@@ -159,8 +197,46 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Run(args) => run(args),
         Command::Sweep(args) => sweep(args),
+        Command::Compare(args) => compare_cmd(args),
         Command::Mesh(args) => mesh(args),
     }
+}
+
+fn load_results(path: &Path) -> Result<Results, CliError> {
+    Ok(Results::load(path).map_err(InputError)?)
+}
+
+fn compare_cmd(args: CompareArgs) -> Result<(), CliError> {
+    if !(args.threshold.is_finite() && args.threshold >= 0.0) {
+        return Err(InputError(format!(
+            "--threshold: must be a finite percentage >= 0, got {}",
+            args.threshold
+        ))
+        .into());
+    }
+    let base = load_results(&args.base)?;
+    let comparison = match (&args.new, args.by, &args.baseline) {
+        (Some(new), None, _) => compare::between(&base, &load_results(new)?, args.threshold),
+        (None, Some(by), Some(baseline)) => {
+            compare::within(&base, by, baseline, args.threshold)
+                .map_err(|e| InputError(e.to_string()))?
+        }
+        _ => {
+            return Err(InputError(
+                "compare: give BASE NEW, or one RESULTS with --by and --baseline".into(),
+            )
+            .into())
+        }
+    };
+    match args.format {
+        CompareFormat::Text => print!("{}", comparison.to_text()),
+        CompareFormat::Markdown => print!("{}", comparison.to_markdown()),
+        CompareFormat::Json => println!("{}", comparison.to_json()),
+    }
+    if comparison.regressed() {
+        return Err(CliError::Regressed);
+    }
+    Ok(())
 }
 
 fn run(args: RunArgs) -> Result<(), CliError> {
