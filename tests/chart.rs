@@ -60,21 +60,60 @@ fn svgs_name_every_series_and_the_machine() {
     let files = chart::draw(&[fixture()], dir.path(), &[ChartFormat::Svg]).unwrap();
     assert!(files.iter().all(|f| f.extension().unwrap() == "svg"));
     let expect: [(&str, &[&str]); 5] = [
-        ("figure-5-1", &["serial", "UP (1 core)", "DP (2 cores)", "16×16 mesh", "40×40 mesh"]),
+        (
+            "figure-5-1",
+            &[
+                "serial",
+                "UP (1 core)",
+                "DP (2 cores)",
+                "16×16 mesh",
+                "40×40 mesh",
+            ],
+        ),
         ("relative", &["DP ÷ UP", "DP ÷ serial", "ideal 2.0"]),
         (
             "sync",
-            &["UP (1 core)", "DP (2 cores)", "atomic", "spin", "mutex", "condvar", "mutex-std", "condvar-std"],
+            &[
+                "UP (1 core)",
+                "DP (2 cores)",
+                "atomic",
+                "spin",
+                "mutex",
+                "condvar",
+                "mutex-std",
+                "condvar-std",
+            ],
         ),
         (
             "frame-times",
-            &["atomic", "spin", "mutex", "condvar", "mutex-std", "condvar-std", "serial", "p99"],
+            &[
+                "atomic",
+                "spin",
+                "mutex",
+                "condvar",
+                "mutex-std",
+                "condvar-std",
+                "serial",
+                "p99",
+            ],
         ),
-        ("breakdown", &["workload (main thread)", "waiting for the mesh (main)", "UP spin", "DP atomic", "serial"]),
+        (
+            "breakdown",
+            &[
+                "workload (main thread)",
+                "waiting for the mesh (main)",
+                "UP spin",
+                "DP atomic",
+                "serial",
+            ],
+        ),
     ];
     for (name, series) in expect {
         let text = svg_text(&file(&files, &format!("{name}.svg")));
-        assert!(text.contains("Intel(R) Xeon(R) Processor"), "{name}: no machine");
+        assert!(
+            text.contains("Intel(R) Xeon(R) Processor"),
+            "{name}: no machine"
+        );
         assert!(text.contains("2026-11-22"), "{name}: no run date");
         for s in series {
             assert!(text.contains(s), "{name}: no {s:?}");
@@ -86,11 +125,16 @@ fn svgs_name_every_series_and_the_machine() {
 #[test]
 fn missing_cells_still_chart_and_are_named() {
     let mut results = fixture();
-    results
-        .cells
-        .retain(|c| !(c.key.size == 40 && c.key.mode == Mode::Dp) && c.key.workload != 0 || c.key.size == 16);
+    results.cells.retain(|c| {
+        !(c.key.size == 40 && c.key.mode == Mode::Dp) && c.key.workload != 0 || c.key.size == 16
+    });
     let dir = tempfile::tempdir().unwrap();
-    let files = chart::draw(&[results], dir.path(), &[ChartFormat::Png, ChartFormat::Svg]).unwrap();
+    let files = chart::draw(
+        &[results],
+        dir.path(),
+        &[ChartFormat::Png, ChartFormat::Svg],
+    )
+    .unwrap();
     assert_eq!(files.len(), CHARTS.len() * 2);
     let figure = svg_text(&file(&files, "figure-5-1.svg"));
     assert!(figure.contains("missing"), "{figure}");
@@ -133,7 +177,11 @@ fn two_runs_side_by_side_are_labelled_by_run() {
     let dir = tempfile::tempdir().unwrap();
     let files = chart::draw(&[a, b], dir.path(), &[ChartFormat::Svg]).unwrap();
     let text = svg_text(&file(&files, "figure-5-1.svg"));
-    for s in ["quick: UP (1 core)", "second: DP (2 cores)", "second: serial"] {
+    for s in [
+        "quick: UP (1 core)",
+        "second: DP (2 cores)",
+        "second: serial",
+    ] {
         assert!(text.contains(s), "no {s:?}");
     }
 }

@@ -1,6 +1,6 @@
 //! The grouped-bar charts: Figure 5-1, DP ÷ UP and the hand-off methods.
 
-use super::render::{Bar, BarPanel, BarPlot, Body, Chart, Frame, RefLine};
+use super::render::{Bar, BarPanel, BarPlot, Body, Chart, Frame, Legend, RefLine};
 use super::{mode_name, Missing, Runs, CHART_SIZE};
 use crate::frame_loop::Mode;
 use plotters::style::RGBColor;
@@ -29,10 +29,15 @@ fn fps(v: f64) -> String {
         format!("{:.1}k", v / 1000.0)
     } else if v >= 10.0 {
         format!("{v:.0}")
+    } else if v == 0.0 {
+        "0".into()
     } else {
         format!("{v:.1}")
     }
 }
+
+const IDEAL: RGBColor = RGBColor(0xd5, 0x5e, 0x00);
+const NO_GAIN: RGBColor = RGBColor(0x55, 0x55, 0x55);
 
 fn ratio(v: f64) -> String {
     format!("{v:.2}")
@@ -51,7 +56,10 @@ pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, String> {
     let mut legend = vec![];
     for (r, run) in runs.runs.iter().enumerate() {
         for &m in &modes {
-            legend.push((runs.series(run, mode_name(m)), shade(mode_color(m), r)));
+            legend.push(Legend::boxed(
+                runs.series(run, mode_name(m)),
+                shade(mode_color(m), r),
+            ));
         }
     }
     let slots = runs.runs.len() * modes.len();
@@ -123,9 +131,11 @@ pub(super) fn relative(runs: &Runs) -> Result<Chart, String> {
     let mut legend = vec![];
     for (r, run) in runs.runs.iter().enumerate() {
         for (p, (_, name)) in pairs.iter().enumerate() {
-            legend.push((runs.series(run, name), shade(colors[p], r)));
+            legend.push(Legend::boxed(runs.series(run, name), shade(colors[p], r)));
         }
     }
+    legend.push(Legend::line("ideal 2.0 (two cores, no overhead)", IDEAL));
+    legend.push(Legend::line("no gain 1.0", NO_GAIN));
     let mut panels = vec![];
     for size in runs.sizes() {
         let mut bars = vec![];
@@ -157,20 +167,21 @@ pub(super) fn relative(runs: &Runs) -> Result<Chart, String> {
                 refs: vec![
                     RefLine {
                         value: 2.0,
-                        label: "ideal 2.0".into(),
-                        color: RGBColor(0xd5, 0x5e, 0x00),
+                        color: IDEAL,
                     },
                     RefLine {
                         value: 1.0,
-                        label: "no gain 1.0".into(),
-                        color: RGBColor(0x55, 0x55, 0x55),
+                        color: NO_GAIN,
                     },
                 ],
             });
         }
     }
     if panels.is_empty() {
-        return Err(format!("no DP cell with a UP or serial cell to divide by ({})", v.describe(true)));
+        return Err(format!(
+            "no DP cell with a UP or serial cell to divide by ({})",
+            v.describe(true)
+        ));
     }
     let mut lines = runs.machine_lines();
     lines.push(format!(
@@ -179,7 +190,10 @@ pub(super) fn relative(runs: &Runs) -> Result<Chart, String> {
     ));
     Ok(Chart {
         frame: Frame {
-            title: format!("DP speed-up: DP ÷ UP and DP ÷ serial FPS ({} hand-off)", v.sync.name()),
+            title: format!(
+                "DP speed-up: DP ÷ UP and DP ÷ serial FPS ({} hand-off)",
+                v.sync.name()
+            ),
             lines,
             legend,
             notes: missing.notes(),
@@ -200,14 +214,21 @@ pub(super) fn relative(runs: &Runs) -> Result<Chart, String> {
 pub(super) fn sync(runs: &Runs) -> Result<Chart, String> {
     let v = runs.variant().ok_or("no cells in the results")?;
     let syncs = runs.syncs();
-    let workload = *runs.workloads().last().ok_or("no workloads in the results")?;
+    let workload = *runs
+        .workloads()
+        .last()
+        .ok_or("no workloads in the results")?;
     let modes = [Mode::Up, Mode::Dp];
     let mut missing = Missing::default();
     let mut legend = vec![];
     for (r, run) in runs.runs.iter().enumerate() {
         for &m in &modes {
-            legend.push((runs.series(run, mode_name(m)), shade(mode_color(m), r)));
+            legend.push(Legend::boxed(
+                runs.series(run, mode_name(m)),
+                shade(mode_color(m), r),
+            ));
         }
+        legend.push(Legend::line(runs.series(run, "serial"), shade(NO_GAIN, r)));
     }
     let mut panels = vec![];
     for size in runs.sizes() {
@@ -232,8 +253,7 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, String> {
             if let Some(s) = runs.summary(run, &serial, &mut missing) {
                 refs.push(RefLine {
                     value: s.fps,
-                    label: runs.series(run, &format!("serial {}", fps(s.fps))),
-                    color: shade(RGBColor(0x55, 0x55, 0x55), r),
+                    color: shade(NO_GAIN, r),
                 });
             }
         }
@@ -247,7 +267,10 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, String> {
         }
     }
     if panels.is_empty() {
-        return Err(format!("no threaded cell at workload {workload} ({})", v.describe(false)));
+        return Err(format!(
+            "no threaded cell at workload {workload} ({})",
+            v.describe(false)
+        ));
     }
     let mut lines = runs.machine_lines();
     lines.push(format!(

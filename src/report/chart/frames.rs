@@ -1,7 +1,7 @@
 //! The single-cell charts: frame-time percentiles and the per-frame breakdown.
 
 use super::bars::shade;
-use super::render::{Body, Chart, Frame, LinePanel, LinePlot, Series, StackPlot, StackRow};
+use super::render::{Body, Chart, Frame, Legend, LinePanel, LinePlot, Series, StackPlot, StackRow};
 use super::{mode_name, short_mode, Missing, Runs, CHART_SIZE};
 use crate::frame_loop::Mode;
 use crate::measure::Summary;
@@ -42,9 +42,12 @@ pub(super) fn frame_times(runs: &Runs, focus: Option<(usize, usize)>) -> Result<
     let mut legend = vec![];
     for (r, run) in runs.runs.iter().enumerate() {
         for &s in &syncs {
-            legend.push((runs.series(run, s.name()), shade(sync_color(s), r)));
+            legend.push(Legend::boxed(
+                runs.series(run, s.name()),
+                shade(sync_color(s), r),
+            ));
         }
-        legend.push((runs.series(run, "serial"), shade(SERIAL, r)));
+        legend.push(Legend::boxed(runs.series(run, "serial"), shade(SERIAL, r)));
     }
     let mut panels = vec![];
     let mut any = false;
@@ -52,7 +55,8 @@ pub(super) fn frame_times(runs: &Runs, focus: Option<(usize, usize)>) -> Result<
         let mut series = vec![];
         for (r, run) in runs.runs.iter().enumerate() {
             for &sync in &syncs {
-                if let Some(s) = runs.summary(run, &v.key(size, workload, mode, sync), &mut missing) {
+                if let Some(s) = runs.summary(run, &v.key(size, workload, mode, sync), &mut missing)
+                {
                     series.push(Series {
                         color: shade(sync_color(sync), r),
                         values: points(s),
@@ -74,7 +78,10 @@ pub(super) fn frame_times(runs: &Runs, focus: Option<(usize, usize)>) -> Result<
         });
     }
     if !any {
-        return Err(format!("no measured cell at {}", focus_text(size, workload)));
+        return Err(format!(
+            "no measured cell at {}",
+            focus_text(size, workload)
+        ));
     }
     let mut lines = runs.machine_lines();
     lines.push(
@@ -85,7 +92,10 @@ pub(super) fn frame_times(runs: &Runs, focus: Option<(usize, usize)>) -> Result<
     lines.push(format!("{}.", v.describe(false)));
     Ok(Chart {
         frame: Frame {
-            title: format!("Frame-time distribution by hand-off method, {}", focus_text(size, workload)),
+            title: format!(
+                "Frame-time distribution by hand-off method, {}",
+                focus_text(size, workload)
+            ),
             lines,
             legend,
             notes: missing.notes(),
@@ -131,13 +141,21 @@ pub(super) fn breakdown(runs: &Runs, focus: Option<(usize, usize)>) -> Result<Ch
                 let (label, main, helper) = if mode == Mode::Serial {
                     (
                         "serial".to_string(),
-                        vec![(WORKLOAD, b.workload_ms), (STEP, b.step_ms), (COPY, b.copy_ms)],
+                        vec![
+                            (WORKLOAD, b.workload_ms),
+                            (STEP, b.step_ms),
+                            (COPY, b.copy_ms),
+                        ],
                         None,
                     )
                 } else {
                     (
                         format!("{} {}", short_mode(mode), sync.name()),
-                        vec![(WORKLOAD, b.workload_ms), (WAIT, b.wait_ms), (COPY, b.copy_ms)],
+                        vec![
+                            (WORKLOAD, b.workload_ms),
+                            (WAIT, b.wait_ms),
+                            (COPY, b.copy_ms),
+                        ],
                         Some((STEP, b.step_ms)),
                     )
                 };
@@ -151,7 +169,10 @@ pub(super) fn breakdown(runs: &Runs, focus: Option<(usize, usize)>) -> Result<Ch
         }
     }
     if rows.is_empty() {
-        return Err(format!("no measured cell at {}", focus_text(size, workload)));
+        return Err(format!(
+            "no measured cell at {}",
+            focus_text(size, workload)
+        ));
     }
     let colors = vec![
         RGBColor(0x00, 0x72, 0xb2),
@@ -160,11 +181,11 @@ pub(super) fn breakdown(runs: &Runs, focus: Option<(usize, usize)>) -> Result<Ch
         RGBColor(0xcc, 0x79, 0xa7),
     ];
     let legend = vec![
-        ("workload (main thread)".to_string(), colors[WORKLOAD]),
-        ("waiting for the mesh (main)".into(), colors[WAIT]),
-        ("copying the mesh (main)".into(), colors[COPY]),
-        ("mesh step (helper: lower bar; serial: main)".into(), colors[STEP]),
-        ("mean frame time (tick)".into(), RGBColor(0, 0, 0)),
+        Legend::boxed("workload (main thread)", colors[WORKLOAD]),
+        Legend::boxed("waiting for the mesh (main)", colors[WAIT]),
+        Legend::boxed("copying the mesh (main)", colors[COPY]),
+        Legend::boxed("mesh step (helper: lower bar; serial: main)", colors[STEP]),
+        Legend::boxed("mean frame time (tick)", RGBColor(0, 0, 0)),
     ];
     let mut lines = runs.machine_lines();
     lines.push(format!(

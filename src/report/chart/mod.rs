@@ -148,7 +148,10 @@ pub fn draw_with(
                     drawn.files.push(path);
                 }
             }
-            Err(reason) => drawn.skipped.push(Skipped { chart: name, reason }),
+            Err(reason) => drawn.skipped.push(Skipped {
+                chart: name,
+                reason,
+            }),
         }
     }
     Ok(drawn)
@@ -265,7 +268,10 @@ fn run_date(started: &str) -> String {
 }
 
 /// First item of `order` that `present` accepts.
-fn first_present<T: Copy>(order: impl IntoIterator<Item = T>, present: impl Fn(T) -> bool) -> Option<T> {
+fn first_present<T: Copy>(
+    order: impl IntoIterator<Item = T>,
+    present: impl Fn(T) -> bool,
+) -> Option<T> {
     order.into_iter().find(|&t| present(t))
 }
 
@@ -375,7 +381,10 @@ impl<'a> Runs<'a> {
             .into_iter()
             .filter(|&m| {
                 self.keys().any(|k| k.mode == m)
-                    || self.runs.iter().any(|r| r.results.config.modes.contains(&m))
+                    || self
+                        .runs
+                        .iter()
+                        .any(|r| r.results.config.modes.contains(&m))
             })
             .collect()
     }
@@ -401,10 +410,9 @@ impl<'a> Runs<'a> {
             |s| self.keys().any(|k| k.sync == Some(s)),
         )
         .unwrap_or(SyncMethod::ALL[0]);
-        let threading = first_present(
-            [Threading::Pool, Threading::Spawn],
-            |t| self.keys().any(|k| k.threading == Some(t)),
-        )
+        let threading = first_present([Threading::Pool, Threading::Spawn], |t| {
+            self.keys().any(|k| k.threading == Some(t))
+        })
         .unwrap_or(Threading::Pool);
         let normals = first_present(
             configs()
@@ -454,7 +462,12 @@ impl<'a> Runs<'a> {
             Some(_) => "failed",
             None => "not measured",
         };
-        let mut label = format!("{0}×{0} w{1} {2}", key.size, key.workload, short_mode(key.mode));
+        let mut label = format!(
+            "{0}×{0} w{1} {2}",
+            key.size,
+            key.workload,
+            short_mode(key.mode)
+        );
         if let Some(s) = key.sync {
             label.push(' ');
             label.push_str(s.name());

@@ -15,6 +15,7 @@ const FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf")
 const TEXT: RGBColor = RGBColor(0x20, 0x20, 0x20);
 const SUBTLE: RGBColor = RGBColor(0x50, 0x50, 0x50);
 const NOTE: RGBColor = RGBColor(0xa0, 0x1c, 0x1c);
+const LIGHT: RGBColor = RGBColor(0xee, 0xee, 0xee);
 const PAD: i32 = 24;
 
 /// Registers the bundled font once; plotters' `ab_glyph` backend knows no system fonts.
@@ -34,14 +35,40 @@ fn font(size: f64) -> TextStyle<'static> {
 pub(super) struct Frame {
     pub title: String,
     pub lines: Vec<String>,
-    pub legend: Vec<(String, RGBColor)>,
+    pub legend: Vec<Legend>,
     pub notes: Vec<String>,
 }
 
-/// A horizontal reference line across a bar panel.
+/// A legend entry: a filled box for bars and points, a dashed line for reference lines.
+pub(super) struct Legend {
+    pub name: String,
+    pub color: RGBColor,
+    pub line: bool,
+}
+
+impl Legend {
+    /// An entry for bars or points.
+    pub fn boxed(name: impl Into<String>, color: RGBColor) -> Legend {
+        Legend {
+            name: name.into(),
+            color,
+            line: false,
+        }
+    }
+
+    /// An entry for a dashed reference line.
+    pub fn line(name: impl Into<String>, color: RGBColor) -> Legend {
+        Legend {
+            name: name.into(),
+            color,
+            line: true,
+        }
+    }
+}
+
+/// A horizontal dashed reference line across a bar panel, named in the legend.
 pub(super) struct RefLine {
     pub value: f64,
-    pub label: String,
     pub color: RGBColor,
 }
 
@@ -129,8 +156,14 @@ pub(super) struct Chart {
 /// Writes `chart` to `path` in `format`.
 pub(super) fn write(chart: &Chart, path: &Path, format: ChartFormat) -> Result<(), ChartError> {
     let drawn = match format {
-        ChartFormat::Png => draw(&BitMapBackend::new(path, chart.size).into_drawing_area(), chart),
-        ChartFormat::Svg => draw(&SVGBackend::new(path, chart.size).into_drawing_area(), chart),
+        ChartFormat::Png => draw(
+            &BitMapBackend::new(path, chart.size).into_drawing_area(),
+            chart,
+        ),
+        ChartFormat::Svg => draw(
+            &SVGBackend::new(path, chart.size).into_drawing_area(),
+            chart,
+        ),
     };
     drawn.map_err(|message| ChartError::Draw {
         path: path.to_path_buf(),
@@ -201,15 +234,35 @@ fn frame<DB: DrawingBackend>(
     y += 8;
     let legend = font(16.0);
     let mut x = PAD;
-    for (name, color) in &frame.legend {
-        let width = 24 + root.estimate_text_size(name, &legend).map_err(err)?.0 as i32;
+    for entry in &frame.legend {
+        let mark = if entry.line { 34 } else { 17 };
+        let width = mark
+            + 6
+            + root
+                .estimate_text_size(&entry.name, &legend)
+                .map_err(err)?
+                .0 as i32;
         if x > PAD && x + width > w as i32 - PAD {
             x = PAD;
             y += 26;
         }
-        root.draw(&Rectangle::new([(x, y + 1), (x + 17, y + 18)], color.filled()))
+        if entry.line {
+            for dash in [0, 13, 26] {
+                root.draw(&PathElement::new(
+                    vec![(x + dash, y + 10), (x + dash + 8, y + 10)],
+                    entry.color.stroke_width(3),
+                ))
+                .map_err(err)?;
+            }
+        } else {
+            root.draw(&Rectangle::new(
+                [(x, y + 1), (x + 17, y + 18)],
+                entry.color.filled(),
+            ))
             .map_err(err)?;
-        root.draw_text(name, &legend, (x + 23, y)).map_err(err)?;
+        }
+        root.draw_text(&entry.name, &legend, (x + mark + 6, y))
+            .map_err(err)?;
         x += width + 30;
     }
     if !frame.legend.is_empty() {
@@ -289,7 +342,11 @@ fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, plot: &BarPlot) -> Re
     let shared = plot.panels.iter().map(panel_top).fold(0.0, f64::max);
     let areas = area.split_evenly((1, plot.panels.len().max(1)));
     for (panel, area) in plot.panels.iter().zip(&areas) {
-        let top = if plot.shared_y { shared } else { panel_top(panel) };
+        let top = if plot.shared_y {
+            shared
+        } else {
+            panel_top(panel)
+        };
         let y_max = if top > 0.0 { top * 1.12 } else { 1.0 };
         bar_panel(area, plot, panel, y_max)?;
     }
@@ -308,10 +365,7 @@ fn bar_panel<DB: DrawingBackend>(
         .margin(10)
         .x_label_area_size(58)
         .y_label_area_size(88)
-        .build_cartesian_2d(
-            categories(-0.5..n as f64 - 0.5, n),
-            0.0..y_max,
-        )
+        .build_cartesian_2d(categories(-0.5..n as f64 - 0.5, n), 0.0..y_max)
         .map_err(err)?;
     let x_fmt = |v: &f64| label_at(&panel.groups, *v);
     let y_fmt = |v: &f64| (plot.format)(*v);
@@ -324,6 +378,8 @@ fn bar_panel<DB: DrawingBackend>(
         .y_label_formatter(&y_fmt)
         .label_style(font(15.0))
         .axis_desc_style(font(17.0))
+        .light_line_style(LIGHT)
+        .max_light_lines(1)
         .draw()
         .map_err(err)?;
     let slot = 0.8 / plot.slots.max(1) as f64;
@@ -341,17 +397,18 @@ fn bar_panel<DB: DrawingBackend>(
             )))
             .map_err(err)?;
         if let Some((lo, hi)) = bar.range {
-            let whisker = ((slot_px * 0.4) as u32).clamp(4, 14);
-            chart
-                .draw_series(std::iter::once(ErrorBar::new_vertical(
-                    mid,
-                    lo,
-                    bar.value,
-                    hi,
-                    BLACK.stroke_width(2),
-                    whisker,
-                )))
-                .map_err(err)?;
+            // Plain whiskers: plotters' error bar puts a circle on the mean that hides short ranges.
+            let cap = slot * 0.22;
+            let style = BLACK.stroke_width(2);
+            for line in [
+                vec![(mid, lo), (mid, hi)],
+                vec![(mid - cap, lo), (mid + cap, lo)],
+                vec![(mid - cap, hi), (mid + cap, hi)],
+            ] {
+                chart
+                    .draw_series(std::iter::once(PathElement::new(line, style)))
+                    .map_err(err)?;
+            }
         }
         // Values are printed only when they fit over their bar, to keep bars readable.
         let text = (plot.format)(bar.value);
@@ -361,29 +418,19 @@ fn bar_panel<DB: DrawingBackend>(
                 .plotting_area()
                 .draw(&Text::new(
                     text,
-                    (mid, bar_top(bar) + y_max * 0.008),
+                    (mid, bar_top(bar) + y_max * 0.022),
                     value_style.clone(),
                 ))
                 .map_err(err)?;
         }
     }
-    let ref_style = font(14.0).pos(Pos::new(HPos::Right, VPos::Bottom));
     for r in &panel.refs {
-        let style = r.color.stroke_width(2);
         chart
             .draw_series(DashedLineSeries::new(
                 [(-0.5, r.value), (n as f64 - 0.5, r.value)],
                 10,
                 6,
-                style,
-            ))
-            .map_err(err)?;
-        chart
-            .plotting_area()
-            .draw(&Text::new(
-                r.label.clone(),
-                (n as f64 - 0.52, r.value + y_max * 0.006),
-                ref_style.clone().color(&r.color),
+                r.color.stroke_width(2),
             ))
             .map_err(err)?;
     }
@@ -413,10 +460,7 @@ fn lines<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, plot: &LinePlot) -> 
             .margin(10)
             .x_label_area_size(58)
             .y_label_area_size(88)
-            .build_cartesian_2d(
-                categories(-0.4..n as f64 - 0.6, n),
-                (lo..hi).log_scale(),
-            )
+            .build_cartesian_2d(categories(-0.4..n as f64 - 0.6, n), (lo..hi).log_scale())
             .map_err(err)?;
         let x_fmt = |v: &f64| label_at(&plot.categories, *v);
         let y_fmt = |v: &f64| ms(*v);
@@ -428,6 +472,9 @@ fn lines<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, plot: &LinePlot) -> 
             .y_label_formatter(&y_fmt)
             .label_style(font(15.0))
             .axis_desc_style(font(17.0))
+            .light_line_style(LIGHT)
+            .max_light_lines(1)
+            .y_labels(15)
             .draw()
             .map_err(err)?;
         let count = panel.series.len().max(1) as f64;
@@ -488,10 +535,7 @@ fn stacks<DB: DrawingBackend>(
         .margin(10)
         .x_label_area_size(58)
         .y_label_area_size(longest + 24)
-        .build_cartesian_2d(
-            0.0..x_max,
-            categories(-0.55..n as f64 - 0.45, n),
-        )
+        .build_cartesian_2d(0.0..x_max, categories(-0.55..n as f64 - 0.45, n))
         .map_err(err)?;
     let y_fmt = |v: &f64| label_at(&labels, *v);
     let x_fmt = |v: &f64| ms(*v);
@@ -503,6 +547,8 @@ fn stacks<DB: DrawingBackend>(
         .y_label_formatter(&y_fmt)
         .label_style(font(15.0))
         .axis_desc_style(font(17.0))
+        .light_line_style(LIGHT)
+        .max_light_lines(1)
         .draw()
         .map_err(err)?;
     for (i, row) in plot.rows.iter().enumerate() {
