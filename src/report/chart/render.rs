@@ -418,7 +418,7 @@ fn bar_panel<DB: DrawingBackend>(
                 .plotting_area()
                 .draw(&Text::new(
                     text,
-                    (mid, bar_top(bar) + y_max * 0.022),
+                    (mid, bar_top(bar) + y_max * 0.012),
                     value_style.clone(),
                 ))
                 .map_err(err)?;
