@@ -1,6 +1,7 @@
 //! Outputs drawn from a results file: JSON (the file itself), a tidy CSV and the Figure 5-1
 //! markdown table. Each is rewritten whole, atomically, after every finished cell.
 
+pub mod chart;
 pub mod compare;
 pub mod csv;
 pub mod json;

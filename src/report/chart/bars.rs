@@ -1,0 +1,297 @@
+//! The grouped-bar charts: Figure 5-1, DP ÷ UP and the hand-off methods.
+
+use super::render::{Bar, BarPanel, BarPlot, Body, Chart, Frame, Legend, RefLine};
+use super::{mode_name, Missing, Runs, CHART_SIZE};
+use crate::frame_loop::Mode;
+use plotters::style::RGBColor;
+
+/// Colour per mode: serial grey, UP orange, DP blue (Okabe-Ito, readable with colour blindness).
+fn mode_color(mode: Mode) -> RGBColor {
+    match mode {
+        Mode::Serial => RGBColor(0x99, 0x99, 0x99),
+        Mode::Up => RGBColor(0xe6, 0x9f, 0x00),
+        Mode::Dp => RGBColor(0x00, 0x72, 0xb2),
+    }
+}
+
+/// A darker shade per further run, so runs of one mode stay recognisably that mode.
+pub(super) fn shade(c: RGBColor, run: usize) -> RGBColor {
+    let f = 1.0 - 0.3 * (run % 3) as f64;
+    let s = |v: u8| (v as f64 * f) as u8;
+    RGBColor(s(c.0), s(c.1), s(c.2))
+}
+
+/// FPS with three significant figures, `k` for thousands, so values fit over narrow bars.
+fn fps(v: f64) -> String {
+    if v >= 10_000.0 {
+        format!("{:.0}k", v / 1000.0)
+    } else if v >= 1000.0 {
+        format!("{:.1}k", v / 1000.0)
+    } else if v >= 10.0 {
+        format!("{v:.0}")
+    } else if v == 0.0 {
+        "0".into()
+    } else {
+        format!("{v:.1}")
+    }
+}
+
+const IDEAL: RGBColor = RGBColor(0xd5, 0x5e, 0x00);
+const NO_GAIN: RGBColor = RGBColor(0x55, 0x55, 0x55);
+
+fn ratio(v: f64) -> String {
+    format!("{v:.2}")
+}
+
+fn size_caption(size: usize) -> String {
+    format!("{size}×{size} mesh")
+}
+
+/// Figure 5-1: FPS per workload, one panel per mesh size, serial / UP / DP bars.
+pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, String> {
+    let v = runs.variant().ok_or("no cells in the results")?;
+    let modes = runs.modes();
+    let workloads = runs.workloads();
+    let mut missing = Missing::default();
+    let mut legend = vec![];
+    for (r, run) in runs.runs.iter().enumerate() {
+        for &m in &modes {
+            legend.push(Legend::boxed(
+                runs.series(run, mode_name(m)),
+                shade(mode_color(m), r),
+            ));
+        }
+    }
+    let slots = runs.runs.len() * modes.len();
+    let mut panels = vec![];
+    for size in runs.sizes() {
+        let mut bars = vec![];
+        for (g, &w) in workloads.iter().enumerate() {
+            for (r, run) in runs.runs.iter().enumerate() {
+                for (m, &mode) in modes.iter().enumerate() {
+                    let key = v.key(size, w, mode, v.sync);
+                    if let Some(s) = runs.summary(run, &key, &mut missing) {
+                        bars.push(Bar {
+                            group: g,
+                            slot: r * modes.len() + m,
+                            value: s.fps,
+                            range: Some((s.fps_spread.min, s.fps_spread.max)),
+                            color: shade(mode_color(mode), r),
+                        });
+                    }
+                }
+            }
+        }
+        if !bars.is_empty() {
+            panels.push(BarPanel {
+                caption: size_caption(size),
+                groups: workloads.iter().map(|w| format!("workload {w}")).collect(),
+                bars,
+                refs: vec![],
+            });
+        }
+    }
+    if panels.is_empty() {
+        return Err(format!("no measured cell with {}", v.describe(true)));
+    }
+    let mut lines = runs.machine_lines();
+    lines.push(format!(
+        "Bars: all frames ÷ all seconds over the trials; error bars: slowest and fastest trial. {}.",
+        v.describe(true)
+    ));
+    Ok(Chart {
+        frame: Frame {
+            title: format!(
+                "Figure 5-1: frames per second by workload, serial vs UP vs DP ({} hand-off)",
+                v.sync.name()
+            ),
+            lines,
+            legend,
+            notes: missing.notes(),
+        },
+        body: Body::Bars(BarPlot {
+            panels,
+            slots,
+            x_desc: "workload level (synthetic main-thread work per frame)".into(),
+            y_desc: "frames per second (FPS)".into(),
+            shared_y: false,
+            format: fps,
+        }),
+        size: CHART_SIZE,
+    })
+}
+
+/// DP ÷ UP and DP ÷ serial per workload, one panel per size, with the ideal 2.0.
+pub(super) fn relative(runs: &Runs) -> Result<Chart, String> {
+    let v = runs.variant().ok_or("no cells in the results")?;
+    let workloads = runs.workloads();
+    let pairs = [(Mode::Up, "DP ÷ UP"), (Mode::Serial, "DP ÷ serial")];
+    let colors = [RGBColor(0x00, 0x72, 0xb2), RGBColor(0x00, 0x9e, 0x73)];
+    let mut missing = Missing::default();
+    let mut legend = vec![];
+    for (r, run) in runs.runs.iter().enumerate() {
+        for (p, (_, name)) in pairs.iter().enumerate() {
+            legend.push(Legend::boxed(runs.series(run, name), shade(colors[p], r)));
+        }
+    }
+    legend.push(Legend::line("ideal 2.0 (two cores, no overhead)", IDEAL));
+    legend.push(Legend::line("no gain 1.0", NO_GAIN));
+    let mut panels = vec![];
+    for size in runs.sizes() {
+        let mut bars = vec![];
+        for (g, &w) in workloads.iter().enumerate() {
+            for (r, run) in runs.runs.iter().enumerate() {
+                let dp = runs.summary(run, &v.key(size, w, Mode::Dp, v.sync), &mut missing);
+                for (p, &(base, _)) in pairs.iter().enumerate() {
+                    let b = runs.summary(run, &v.key(size, w, base, v.sync), &mut missing);
+                    if let (Some(dp), Some(b)) = (dp, b) {
+                        // The bound pairs DP's slowest trial with the base's fastest and back.
+                        let lo = dp.fps_spread.min / b.fps_spread.max;
+                        let hi = dp.fps_spread.max / b.fps_spread.min;
+                        bars.push(Bar {
+                            group: g,
+                            slot: r * pairs.len() + p,
+                            value: dp.fps / b.fps,
+                            range: (lo.is_finite() && hi.is_finite()).then_some((lo, hi)),
+                            color: shade(colors[p], r),
+                        });
+                    }
+                }
+            }
+        }
+        if !bars.is_empty() {
+            panels.push(BarPanel {
+                caption: size_caption(size),
+                groups: workloads.iter().map(|w| format!("workload {w}")).collect(),
+                bars,
+                refs: vec![
+                    RefLine {
+                        value: 2.0,
+                        color: IDEAL,
+                    },
+                    RefLine {
+                        value: 1.0,
+                        color: NO_GAIN,
+                    },
+                ],
+            });
+        }
+    }
+    if panels.is_empty() {
+        return Err(format!(
+            "no DP cell with a UP or serial cell to divide by ({})",
+            v.describe(true)
+        ));
+    }
+    let mut lines = runs.machine_lines();
+    lines.push(format!(
+        "Error bars: DP's slowest trial ÷ the other's fastest, and the reverse. {}.",
+        v.describe(true)
+    ));
+    Ok(Chart {
+        frame: Frame {
+            title: format!(
+                "DP speed-up: DP ÷ UP and DP ÷ serial FPS ({} hand-off)",
+                v.sync.name()
+            ),
+            lines,
+            legend,
+            notes: missing.notes(),
+        },
+        body: Body::Bars(BarPlot {
+            panels,
+            slots: runs.runs.len() * pairs.len(),
+            x_desc: "workload level".into(),
+            y_desc: "FPS ratio (×)".into(),
+            shared_y: true,
+            format: ratio,
+        }),
+        size: CHART_SIZE,
+    })
+}
+
+/// Each hand-off method's FPS in UP and DP, one panel per size at the highest workload.
+pub(super) fn sync(runs: &Runs) -> Result<Chart, String> {
+    let v = runs.variant().ok_or("no cells in the results")?;
+    let syncs = runs.syncs();
+    let workload = *runs
+        .workloads()
+        .last()
+        .ok_or("no workloads in the results")?;
+    let modes = [Mode::Up, Mode::Dp];
+    let mut missing = Missing::default();
+    let mut legend = vec![];
+    for (r, run) in runs.runs.iter().enumerate() {
+        for &m in &modes {
+            legend.push(Legend::boxed(
+                runs.series(run, mode_name(m)),
+                shade(mode_color(m), r),
+            ));
+        }
+        legend.push(Legend::line(runs.series(run, "serial"), shade(NO_GAIN, r)));
+    }
+    let mut panels = vec![];
+    for size in runs.sizes() {
+        let mut bars = vec![];
+        let mut refs = vec![];
+        for (r, run) in runs.runs.iter().enumerate() {
+            for (g, &sync) in syncs.iter().enumerate() {
+                for (m, &mode) in modes.iter().enumerate() {
+                    let key = v.key(size, workload, mode, sync);
+                    if let Some(s) = runs.summary(run, &key, &mut missing) {
+                        bars.push(Bar {
+                            group: g,
+                            slot: r * modes.len() + m,
+                            value: s.fps,
+                            range: Some((s.fps_spread.min, s.fps_spread.max)),
+                            color: shade(mode_color(mode), r),
+                        });
+                    }
+                }
+            }
+            let serial = v.key(size, workload, Mode::Serial, v.sync);
+            if let Some(s) = runs.summary(run, &serial, &mut missing) {
+                refs.push(RefLine {
+                    value: s.fps,
+                    color: shade(NO_GAIN, r),
+                });
+            }
+        }
+        if !bars.is_empty() {
+            panels.push(BarPanel {
+                caption: format!("{}, workload {workload}", size_caption(size)),
+                groups: syncs.iter().map(|s| s.name().to_string()).collect(),
+                bars,
+                refs,
+            });
+        }
+    }
+    if panels.is_empty() {
+        return Err(format!(
+            "no threaded cell at workload {workload} ({})",
+            v.describe(false)
+        ));
+    }
+    let mut lines = runs.machine_lines();
+    lines.push(format!(
+        "Dashed line: serial FPS. Error bars: slowest and fastest trial. {}.",
+        v.describe(false)
+    ));
+    Ok(Chart {
+        frame: Frame {
+            title: format!("Hand-off methods: FPS in UP and DP at workload {workload}"),
+            lines,
+            legend,
+            notes: missing.notes(),
+        },
+        body: Body::Bars(BarPlot {
+            panels,
+            slots: runs.runs.len() * modes.len(),
+            x_desc: "hand-off method".into(),
+            y_desc: "frames per second (FPS)".into(),
+            shared_y: false,
+            format: fps,
+        }),
+        size: CHART_SIZE,
+    })
+}

@@ -1,0 +1,211 @@
+//! The single-cell charts: frame-time percentiles and the per-frame breakdown.
+
+use super::bars::shade;
+use super::render::{Body, Chart, Frame, Legend, LinePanel, LinePlot, Series, StackPlot, StackRow};
+use super::{mode_name, short_mode, Missing, Runs, CHART_SIZE};
+use crate::frame_loop::Mode;
+use crate::measure::Summary;
+use crate::sync::SyncMethod;
+use plotters::style::RGBColor;
+
+const SERIAL: RGBColor = RGBColor(0x70, 0x70, 0x70);
+
+/// A colour per hand-off method, fixed so a method looks the same in every chart.
+fn sync_color(sync: SyncMethod) -> RGBColor {
+    match sync {
+        SyncMethod::Atomic => RGBColor(0x00, 0x72, 0xb2),
+        SyncMethod::Spin => RGBColor(0xd5, 0x5e, 0x00),
+        SyncMethod::Mutex => RGBColor(0x00, 0x9e, 0x73),
+        SyncMethod::Condvar => RGBColor(0xcc, 0x79, 0xa7),
+        SyncMethod::MutexStd => RGBColor(0xe6, 0x9f, 0x00),
+        SyncMethod::CondvarStd => RGBColor(0x56, 0xb4, 0xe9),
+    }
+}
+
+/// The summary's frame-time points: mean, then median, p99, slowest-1% mean and max.
+fn points(s: &Summary) -> Vec<Option<f64>> {
+    let slow = (s.one_percent_low_fps > 0.0).then(|| 1000.0 / s.one_percent_low_fps);
+    let t = &s.frame_time_ms;
+    vec![Some(t.mean), Some(t.median), Some(t.p99), slow, Some(t.max)]
+}
+
+fn focus_text(size: usize, workload: usize) -> String {
+    format!("{size}×{size} mesh, workload {workload}")
+}
+
+/// Frame-time points per hand-off method, one panel per threaded mode, serial in each.
+pub(super) fn frame_times(runs: &Runs, focus: Option<(usize, usize)>) -> Result<Chart, String> {
+    let (size, workload) = focus.ok_or("no measured cell in the results")?;
+    let v = runs.variant().ok_or("no cells in the results")?;
+    let syncs = runs.syncs();
+    let mut missing = Missing::default();
+    let mut legend = vec![];
+    for (r, run) in runs.runs.iter().enumerate() {
+        for &s in &syncs {
+            legend.push(Legend::boxed(
+                runs.series(run, s.name()),
+                shade(sync_color(s), r),
+            ));
+        }
+        legend.push(Legend::boxed(runs.series(run, "serial"), shade(SERIAL, r)));
+    }
+    let mut panels = vec![];
+    let mut any = false;
+    for mode in runs.modes().into_iter().filter(|&m| m != Mode::Serial) {
+        let mut series = vec![];
+        for (r, run) in runs.runs.iter().enumerate() {
+            for &sync in &syncs {
+                if let Some(s) = runs.summary(run, &v.key(size, workload, mode, sync), &mut missing)
+                {
+                    series.push(Series {
+                        color: shade(sync_color(sync), r),
+                        values: points(s),
+                    });
+                }
+            }
+            let serial = v.key(size, workload, Mode::Serial, v.sync);
+            if let Some(s) = runs.summary(run, &serial, &mut missing) {
+                series.push(Series {
+                    color: shade(SERIAL, r),
+                    values: points(s),
+                });
+            }
+        }
+        any |= !series.is_empty();
+        panels.push(LinePanel {
+            caption: mode_name(mode).to_string(),
+            series,
+        });
+    }
+    if !any {
+        return Err(format!(
+            "no measured cell at {}",
+            focus_text(size, workload)
+        ));
+    }
+    let mut lines = runs.machine_lines();
+    lines.push(
+        "Per-frame times are not stored, so each line is a percentile curve through the stored \
+         points: median, p99, mean of the slowest 1% (from the 1% low) and max; the mean stands apart."
+            .into(),
+    );
+    lines.push(format!("{}.", v.describe(false)));
+    Ok(Chart {
+        frame: Frame {
+            title: format!(
+                "Frame-time distribution by hand-off method, {}",
+                focus_text(size, workload)
+            ),
+            lines,
+            legend,
+            notes: missing.notes(),
+        },
+        body: Body::Lines(LinePlot {
+            panels,
+            categories: ["mean", "median", "p99", "slowest 1%", "max"]
+                .map(String::from)
+                .to_vec(),
+            first_apart: true,
+            x_desc: "statistic over all measured frames".into(),
+            y_desc: "frame time (ms, log scale)".into(),
+        }),
+        size: CHART_SIZE,
+    })
+}
+
+/// The mean frame split into workload, wait, copy and the mesh step, one row per mode and method.
+pub(super) fn breakdown(runs: &Runs, focus: Option<(usize, usize)>) -> Result<Chart, String> {
+    const WORKLOAD: usize = 0;
+    const WAIT: usize = 1;
+    const COPY: usize = 2;
+    const STEP: usize = 3;
+    let (size, workload) = focus.ok_or("no measured cell in the results")?;
+    let v = runs.variant().ok_or("no cells in the results")?;
+    let syncs = runs.syncs();
+    let modes = runs.modes();
+    let mut missing = Missing::default();
+    let mut rows = vec![];
+    for run in &runs.runs {
+        for &mode in &modes {
+            let methods: Vec<SyncMethod> = if mode == Mode::Serial {
+                vec![v.sync]
+            } else {
+                syncs.clone()
+            };
+            for sync in methods {
+                let Some(s) = runs.summary(run, &v.key(size, workload, mode, sync), &mut missing)
+                else {
+                    continue;
+                };
+                let b = &s.breakdown;
+                let (label, main, helper) = if mode == Mode::Serial {
+                    (
+                        "serial".to_string(),
+                        vec![
+                            (WORKLOAD, b.workload_ms),
+                            (STEP, b.step_ms),
+                            (COPY, b.copy_ms),
+                        ],
+                        None,
+                    )
+                } else {
+                    (
+                        format!("{} {}", short_mode(mode), sync.name()),
+                        vec![
+                            (WORKLOAD, b.workload_ms),
+                            (WAIT, b.wait_ms),
+                            (COPY, b.copy_ms),
+                        ],
+                        Some((STEP, b.step_ms)),
+                    )
+                };
+                rows.push(StackRow {
+                    label: runs.series(run, &label),
+                    main,
+                    helper,
+                    total: s.frame_time_ms.mean,
+                });
+            }
+        }
+    }
+    if rows.is_empty() {
+        return Err(format!(
+            "no measured cell at {}",
+            focus_text(size, workload)
+        ));
+    }
+    let colors = vec![
+        RGBColor(0x00, 0x72, 0xb2),
+        RGBColor(0xd5, 0x5e, 0x00),
+        RGBColor(0x00, 0x9e, 0x73),
+        RGBColor(0xcc, 0x79, 0xa7),
+    ];
+    let legend = vec![
+        Legend::boxed("workload (main thread)", colors[WORKLOAD]),
+        Legend::boxed("waiting for the mesh (main)", colors[WAIT]),
+        Legend::boxed("copying the mesh (main)", colors[COPY]),
+        Legend::boxed("mesh step (helper: lower bar; serial: main)", colors[STEP]),
+        Legend::boxed("mean frame time (tick)", RGBColor(0, 0, 0)),
+    ];
+    let mut lines = runs.machine_lines();
+    lines.push(format!(
+        "Mean per frame. The upper bar is the main thread's frame; in UP and DP the lower bar is \
+         the helper's step, which overlaps it. {}.",
+        v.describe(false)
+    ));
+    let height = CHART_SIZE.1.max(300 + 44 * rows.len() as u32);
+    Ok(Chart {
+        frame: Frame {
+            title: format!("Where a frame's time goes, {}", focus_text(size, workload)),
+            lines,
+            legend,
+            notes: missing.notes(),
+        },
+        body: Body::Stacks(StackPlot {
+            rows,
+            colors,
+            x_desc: "time per frame (ms)".into(),
+        }),
+        size: (CHART_SIZE.0, height),
+    })
+}

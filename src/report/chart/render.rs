@@ -1,0 +1,604 @@
+//! Drawing the chart data with plotters, the same way for every backend.
+
+use super::{ChartError, ChartFormat};
+use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use std::ops::Range;
+use std::path::Path;
+use std::sync::OnceLock;
+
+const FONT: &str = "sans-serif";
+const FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
+const TEXT: RGBColor = RGBColor(0x20, 0x20, 0x20);
+const SUBTLE: RGBColor = RGBColor(0x50, 0x50, 0x50);
+const NOTE: RGBColor = RGBColor(0xa0, 0x1c, 0x1c);
+const LIGHT: RGBColor = RGBColor(0xee, 0xee, 0xee);
+const PAD: i32 = 24;
+
+/// Registers the bundled font once; plotters' `ab_glyph` backend knows no system fonts.
+pub(super) fn register_font() -> Result<(), ChartError> {
+    static DONE: OnceLock<bool> = OnceLock::new();
+    let ok = *DONE.get_or_init(|| {
+        plotters::style::register_font(FONT, FontStyle::Normal, FONT_BYTES).is_ok()
+    });
+    ok.then_some(()).ok_or(ChartError::Font)
+}
+
+fn font(size: f64) -> TextStyle<'static> {
+    TextStyle::from((FONT, size).into_font()).color(&TEXT)
+}
+
+/// The text around a chart's plot.
+pub(super) struct Frame {
+    pub title: String,
+    pub lines: Vec<String>,
+    pub legend: Vec<Legend>,
+    pub notes: Vec<String>,
+}
+
+/// A legend entry: a filled box for bars and points, a dashed line for reference lines.
+pub(super) struct Legend {
+    pub name: String,
+    pub color: RGBColor,
+    pub line: bool,
+}
+
+impl Legend {
+    /// An entry for bars or points.
+    pub fn boxed(name: impl Into<String>, color: RGBColor) -> Legend {
+        Legend {
+            name: name.into(),
+            color,
+            line: false,
+        }
+    }
+
+    /// An entry for a dashed reference line.
+    pub fn line(name: impl Into<String>, color: RGBColor) -> Legend {
+        Legend {
+            name: name.into(),
+            color,
+            line: true,
+        }
+    }
+}
+
+/// A horizontal dashed reference line across a bar panel, named in the legend.
+pub(super) struct RefLine {
+    pub value: f64,
+    pub color: RGBColor,
+}
+
+/// One bar: its group on the x axis, its slot in the group, value and optional range.
+pub(super) struct Bar {
+    pub group: usize,
+    pub slot: usize,
+    pub value: f64,
+    pub range: Option<(f64, f64)>,
+    pub color: RGBColor,
+}
+
+/// A panel of grouped bars.
+pub(super) struct BarPanel {
+    pub caption: String,
+    pub groups: Vec<String>,
+    pub bars: Vec<Bar>,
+    pub refs: Vec<RefLine>,
+}
+
+/// Grouped bars in side-by-side panels.
+pub(super) struct BarPlot {
+    pub panels: Vec<BarPanel>,
+    pub slots: usize,
+    pub x_desc: String,
+    pub y_desc: String,
+    /// One y scale for all panels (ratios), or one per panel (FPS of very different sizes).
+    pub shared_y: bool,
+    pub format: fn(f64) -> String,
+}
+
+/// One line of points over the categories of a line panel.
+pub(super) struct Series {
+    pub color: RGBColor,
+    pub values: Vec<Option<f64>>,
+}
+
+/// A panel of lines over categories.
+pub(super) struct LinePanel {
+    pub caption: String,
+    pub series: Vec<Series>,
+}
+
+/// Category lines on a log y axis; the first category can stand apart from the curve.
+pub(super) struct LinePlot {
+    pub panels: Vec<LinePanel>,
+    pub categories: Vec<String>,
+    pub first_apart: bool,
+    pub x_desc: String,
+    pub y_desc: String,
+}
+
+/// One row of a stacked breakdown.
+pub(super) struct StackRow {
+    pub label: String,
+    /// The main thread's parts in stacking order: (part index, ms).
+    pub main: Vec<(usize, f64)>,
+    /// A part that ran on the helper thread, drawn as its own thinner bar.
+    pub helper: Option<(usize, f64)>,
+    /// The mean frame time, drawn as a tick.
+    pub total: f64,
+}
+
+/// Horizontal stacked bars, one row per mode and method.
+pub(super) struct StackPlot {
+    pub rows: Vec<StackRow>,
+    pub colors: Vec<RGBColor>,
+    pub x_desc: String,
+}
+
+/// What a chart draws below its frame.
+pub(super) enum Body {
+    Bars(BarPlot),
+    Lines(LinePlot),
+    Stacks(StackPlot),
+}
+
+/// A whole chart, ready to draw in any format.
+pub(super) struct Chart {
+    pub frame: Frame,
+    pub body: Body,
+    pub size: (u32, u32),
+}
+
+/// Writes `chart` to `path` in `format`.
+pub(super) fn write(chart: &Chart, path: &Path, format: ChartFormat) -> Result<(), ChartError> {
+    let drawn = match format {
+        ChartFormat::Png => draw(
+            &BitMapBackend::new(path, chart.size).into_drawing_area(),
+            chart,
+        ),
+        ChartFormat::Svg => draw(
+            &SVGBackend::new(path, chart.size).into_drawing_area(),
+            chart,
+        ),
+    };
+    drawn.map_err(|message| ChartError::Draw {
+        path: path.to_path_buf(),
+        message,
+    })
+}
+
+fn err(e: impl std::fmt::Display) -> String {
+    e.to_string()
+}
+
+fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, chart: &Chart) -> Result<(), String> {
+    root.fill(&WHITE).map_err(err)?;
+    let body = frame(root, &chart.frame)?;
+    match &chart.body {
+        Body::Bars(p) => bars(&body, p)?,
+        Body::Lines(p) => lines(&body, p)?,
+        Body::Stacks(p) => stacks(&body, p)?,
+    }
+    root.present().map_err(err)
+}
+
+/// Splits `text` into lines no wider than `width` pixels at `style`.
+fn wrap<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    text: &str,
+    style: &TextStyle,
+    width: u32,
+) -> Result<Vec<String>, String> {
+    let mut out = vec![];
+    let mut line = String::new();
+    for word in text.split(' ') {
+        let candidate = if line.is_empty() {
+            word.to_string()
+        } else {
+            format!("{line} {word}")
+        };
+        if !line.is_empty() && area.estimate_text_size(&candidate, style).map_err(err)?.0 > width {
+            out.push(std::mem::replace(&mut line, word.to_string()));
+        } else {
+            line = candidate;
+        }
+    }
+    out.push(line);
+    Ok(out)
+}
+
+/// Draws title, subtitle lines, legend and notes; returns the area left for the plot.
+fn frame<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    frame: &Frame,
+) -> Result<DrawingArea<DB, Shift>, String> {
+    let (w, h) = root.dim_in_pixel();
+    let inner = w - 2 * PAD as u32;
+    let mut y = 14;
+    let title = font(26.0);
+    for line in wrap(root, &frame.title, &title, inner)? {
+        root.draw_text(&line, &title, (PAD, y)).map_err(err)?;
+        y += 34;
+    }
+    let sub = font(16.0).color(&SUBTLE);
+    for text in &frame.lines {
+        for line in wrap(root, text, &sub, inner)? {
+            root.draw_text(&line, &sub, (PAD, y)).map_err(err)?;
+            y += 22;
+        }
+    }
+    y += 8;
+    let legend = font(16.0);
+    let mut x = PAD;
+    for entry in &frame.legend {
+        let mark = if entry.line { 34 } else { 17 };
+        let width = mark
+            + 6
+            + root
+                .estimate_text_size(&entry.name, &legend)
+                .map_err(err)?
+                .0 as i32;
+        if x > PAD && x + width > w as i32 - PAD {
+            x = PAD;
+            y += 26;
+        }
+        if entry.line {
+            for dash in [0, 13, 26] {
+                root.draw(&PathElement::new(
+                    vec![(x + dash, y + 10), (x + dash + 8, y + 10)],
+                    entry.color.stroke_width(3),
+                ))
+                .map_err(err)?;
+            }
+        } else {
+            root.draw(&Rectangle::new(
+                [(x, y + 1), (x + 17, y + 18)],
+                entry.color.filled(),
+            ))
+            .map_err(err)?;
+        }
+        root.draw_text(&entry.name, &legend, (x + mark + 6, y))
+            .map_err(err)?;
+        x += width + 30;
+    }
+    if !frame.legend.is_empty() {
+        y += 30;
+    }
+    let note = font(16.0).color(&NOTE);
+    let mut notes = vec![];
+    for text in &frame.notes {
+        notes.extend(wrap(root, text, &note, inner)?);
+    }
+    let footer = if notes.is_empty() {
+        8
+    } else {
+        notes.len() as i32 * 22 + 14
+    };
+    for (i, line) in notes.iter().enumerate() {
+        let ny = h as i32 - footer + 6 + i as i32 * 22;
+        root.draw_text(line, &note, (PAD, ny)).map_err(err)?;
+    }
+    Ok(root.margin(y, footer, 8, 16))
+}
+
+/// An f64 axis whose ticks sit at the category indices 0..n. Plotters' `with_key_points`
+/// cannot be used: on an f64 axis it loses the label formatter `configure_mesh` needs.
+#[derive(Clone)]
+struct Categories {
+    range: Range<f64>,
+    n: usize,
+}
+
+fn categories(range: Range<f64>, n: usize) -> Categories {
+    Categories { range, n }
+}
+
+impl Ranged for Categories {
+    type FormatOption = DefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, value: &f64, limit: (i32, i32)) -> i32 {
+        RangedCoordf64::from(self.range.clone()).map(value, limit)
+    }
+
+    fn key_points<Hint: KeyPointHint>(&self, hint: Hint) -> Vec<f64> {
+        // Only bold points: light grid lines between categories mean nothing.
+        if hint.weight().allow_light_points() {
+            vec![]
+        } else {
+            (0..self.n).map(|i| i as f64).collect()
+        }
+    }
+
+    fn range(&self) -> Range<f64> {
+        self.range.clone()
+    }
+}
+
+fn label_at(labels: &[String], v: f64) -> String {
+    let i = v.round();
+    if i < 0.0 || (v - i).abs() > 1e-6 {
+        return String::new();
+    }
+    labels.get(i as usize).cloned().unwrap_or_default()
+}
+
+fn bar_top(bar: &Bar) -> f64 {
+    bar.range.map_or(bar.value, |(_, hi)| hi.max(bar.value))
+}
+
+fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, plot: &BarPlot) -> Result<(), String> {
+    let panel_top = |p: &BarPanel| {
+        p.bars
+            .iter()
+            .map(bar_top)
+            .chain(p.refs.iter().map(|r| r.value))
+            .fold(0.0, f64::max)
+    };
+    let shared = plot.panels.iter().map(panel_top).fold(0.0, f64::max);
+    let areas = area.split_evenly((1, plot.panels.len().max(1)));
+    for (panel, area) in plot.panels.iter().zip(&areas) {
+        let top = if plot.shared_y {
+            shared
+        } else {
+            panel_top(panel)
+        };
+        let y_max = if top > 0.0 { top * 1.12 } else { 1.0 };
+        bar_panel(area, plot, panel, y_max)?;
+    }
+    Ok(())
+}
+
+fn bar_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    plot: &BarPlot,
+    panel: &BarPanel,
+    y_max: f64,
+) -> Result<(), String> {
+    let n = panel.groups.len().max(1);
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.caption, font(19.0))
+        .margin(10)
+        .x_label_area_size(58)
+        .y_label_area_size(88)
+        .build_cartesian_2d(categories(-0.5..n as f64 - 0.5, n), 0.0..y_max)
+        .map_err(err)?;
+    let x_fmt = |v: &f64| label_at(&panel.groups, *v);
+    let y_fmt = |v: &f64| (plot.format)(*v);
+    chart
+        .configure_mesh()
+        .disable_x_mesh()
+        .x_desc(&plot.x_desc)
+        .y_desc(&plot.y_desc)
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
+        .label_style(font(15.0))
+        .axis_desc_style(font(17.0))
+        .light_line_style(LIGHT)
+        .max_light_lines(1)
+        .draw()
+        .map_err(err)?;
+    let slot = 0.8 / plot.slots.max(1) as f64;
+    let plot_width = chart.plotting_area().dim_in_pixel().0 as f64;
+    let slot_px = plot_width * slot / n as f64;
+    let value_style = font(12.0).pos(Pos::new(HPos::Center, VPos::Bottom));
+    for bar in &panel.bars {
+        let x0 = bar.group as f64 - 0.4 + bar.slot as f64 * slot + slot * 0.08;
+        let x1 = x0 + slot * 0.84;
+        let mid = (x0 + x1) / 2.0;
+        chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(x0, 0.0), (x1, bar.value)],
+                bar.color.filled(),
+            )))
+            .map_err(err)?;
+        if let Some((lo, hi)) = bar.range {
+            // Plain whiskers: plotters' error bar puts a circle on the mean that hides short ranges.
+            let cap = slot * 0.22;
+            let style = BLACK.stroke_width(2);
+            for line in [
+                vec![(mid, lo), (mid, hi)],
+                vec![(mid - cap, lo), (mid + cap, lo)],
+                vec![(mid - cap, hi), (mid + cap, hi)],
+            ] {
+                chart
+                    .draw_series(std::iter::once(PathElement::new(line, style)))
+                    .map_err(err)?;
+            }
+        }
+        // Values are printed only when they fit over their bar, to keep bars readable.
+        let text = (plot.format)(bar.value);
+        let text_px = area.estimate_text_size(&text, &value_style).map_err(err)?.0 as f64;
+        if text_px < slot_px * 0.98 {
+            chart
+                .plotting_area()
+                .draw(&Text::new(
+                    text,
+                    (mid, bar_top(bar) + y_max * 0.012),
+                    value_style.clone(),
+                ))
+                .map_err(err)?;
+        }
+    }
+    for r in &panel.refs {
+        chart
+            .draw_series(DashedLineSeries::new(
+                [(-0.5, r.value), (n as f64 - 0.5, r.value)],
+                10,
+                6,
+                r.color.stroke_width(2),
+            ))
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+fn lines<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, plot: &LinePlot) -> Result<(), String> {
+    let values = || {
+        plot.panels
+            .iter()
+            .flat_map(|p| &p.series)
+            .flat_map(|s| s.values.iter().flatten().copied())
+            .filter(|v| *v > 0.0)
+    };
+    let lo = values().fold(f64::INFINITY, f64::min);
+    let hi = values().fold(0.0, f64::max);
+    let (lo, hi) = if lo.is_finite() && hi > 0.0 {
+        (lo / 1.4, hi * 1.4)
+    } else {
+        (0.1, 10.0)
+    };
+    let n = plot.categories.len().max(1);
+    let areas = area.split_evenly((1, plot.panels.len().max(1)));
+    for (panel, area) in plot.panels.iter().zip(&areas) {
+        let mut chart = ChartBuilder::on(area)
+            .caption(&panel.caption, font(19.0))
+            .margin(10)
+            .x_label_area_size(58)
+            .y_label_area_size(88)
+            .build_cartesian_2d(categories(-0.4..n as f64 - 0.6, n), (lo..hi).log_scale())
+            .map_err(err)?;
+        let x_fmt = |v: &f64| label_at(&plot.categories, *v);
+        let y_fmt = |v: &f64| ms(*v);
+        chart
+            .configure_mesh()
+            .x_desc(&plot.x_desc)
+            .y_desc(&plot.y_desc)
+            .x_label_formatter(&x_fmt)
+            .y_label_formatter(&y_fmt)
+            .label_style(font(15.0))
+            .axis_desc_style(font(17.0))
+            .light_line_style(LIGHT)
+            .max_light_lines(1)
+            .y_labels(15)
+            .draw()
+            .map_err(err)?;
+        let count = panel.series.len().max(1) as f64;
+        for (s, series) in panel.series.iter().enumerate() {
+            // A small sideways shift per series keeps equal values from hiding each other.
+            let shift = (s as f64 - (count - 1.0) / 2.0) * (0.25 / count);
+            let points: Vec<(usize, f64, f64)> = series
+                .values
+                .iter()
+                .enumerate()
+                .filter_map(|(i, v)| v.map(|v| (i, i as f64 + shift, v)))
+                .collect();
+            let curve: Vec<(f64, f64)> = points
+                .iter()
+                .filter(|(i, _, _)| !(plot.first_apart && *i == 0))
+                .map(|&(_, x, v)| (x, v))
+                .collect();
+            chart
+                .draw_series(LineSeries::new(curve, series.color.stroke_width(2)))
+                .map_err(err)?;
+            chart
+                .draw_series(
+                    points
+                        .iter()
+                        .map(|&(_, x, v)| Circle::new((x, v), 5, series.color.filled())),
+                )
+                .map_err(err)?;
+        }
+    }
+    Ok(())
+}
+
+fn stacks<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    plot: &StackPlot,
+) -> Result<(), String> {
+    let n = plot.rows.len().max(1);
+    let top = plot
+        .rows
+        .iter()
+        .flat_map(|r| {
+            [
+                r.main.iter().map(|p| p.1).sum::<f64>(),
+                r.helper.map_or(0.0, |h| h.1),
+                r.total,
+            ]
+        })
+        .fold(0.0, f64::max);
+    let x_max = if top > 0.0 { top * 1.1 } else { 1.0 };
+    // Rows run top to bottom in the order given, so row i sits at y = n - 1 - i.
+    let labels: Vec<String> = plot.rows.iter().rev().map(|r| r.label.clone()).collect();
+    let longest = labels
+        .iter()
+        .map(|l| area.estimate_text_size(l, &font(15.0)).map(|s| s.0))
+        .try_fold(0, |a, s| s.map(|s| a.max(s)))
+        .map_err(err)?;
+    let mut chart = ChartBuilder::on(area)
+        .margin(10)
+        .x_label_area_size(58)
+        .y_label_area_size(longest + 24)
+        .build_cartesian_2d(0.0..x_max, categories(-0.55..n as f64 - 0.45, n))
+        .map_err(err)?;
+    let y_fmt = |v: &f64| label_at(&labels, *v);
+    let x_fmt = |v: &f64| ms(*v);
+    chart
+        .configure_mesh()
+        .disable_y_mesh()
+        .x_desc(&plot.x_desc)
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
+        .label_style(font(15.0))
+        .axis_desc_style(font(17.0))
+        .light_line_style(LIGHT)
+        .max_light_lines(1)
+        .draw()
+        .map_err(err)?;
+    for (i, row) in plot.rows.iter().enumerate() {
+        let y = (n - 1 - i) as f64;
+        let (main_lo, main_hi) = if row.helper.is_some() {
+            (y - 0.02, y + 0.36)
+        } else {
+            (y - 0.2, y + 0.2)
+        };
+        let mut x = 0.0;
+        for &(part, v) in &row.main {
+            chart
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(x, main_lo), (x + v, main_hi)],
+                    plot.colors[part].filled(),
+                )))
+                .map_err(err)?;
+            x += v;
+        }
+        if let Some((part, v)) = row.helper {
+            chart
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(0.0, y - 0.34), (v, y - 0.08)],
+                    plot.colors[part].mix(0.75).filled(),
+                )))
+                .map_err(err)?;
+        }
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(row.total, y - 0.42), (row.total, y + 0.42)],
+                BLACK.stroke_width(3),
+            )))
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+/// Milliseconds with as many decimals as their size needs.
+pub(super) fn ms(v: f64) -> String {
+    if v >= 100.0 {
+        format!("{v:.0}")
+    } else if v >= 10.0 {
+        format!("{v:.1}")
+    } else if v >= 1.0 {
+        format!("{v:.2}")
+    } else if v >= 0.01 {
+        format!("{v:.3}")
+    } else if v == 0.0 {
+        "0".into()
+    } else {
+        format!("{v:.1e}")
+    }
+}

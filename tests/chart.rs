@@ -1,0 +1,200 @@
+//! Charts drawn from a real results file: the files exist, decode, and show every series.
+
+use oceanbench::frame_loop::Mode;
+use oceanbench::report::chart::{self, ChartFormat, ChartOptions, CHARTS, CHART_SIZE};
+use oceanbench::results::Results;
+use std::path::{Path, PathBuf};
+
+fn fixture() -> Results {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json");
+    Results::load(&path).expect("fixture loads")
+}
+
+fn png_size(path: &Path) -> (u32, u32) {
+    let decoder = png::Decoder::new(std::fs::File::open(path).unwrap());
+    let reader = decoder.read_info().expect("PNG decodes");
+    let info = reader.info();
+    (info.width, info.height)
+}
+
+/// Every text node of an SVG, which must parse as XML.
+fn svg_text(path: &Path) -> String {
+    let text = std::fs::read_to_string(path).unwrap();
+    let doc = roxmltree::Document::parse(&text).expect("SVG parses");
+    doc.descendants()
+        .filter_map(|n| n.text())
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+fn file(files: &[PathBuf], name: &str) -> PathBuf {
+    files
+        .iter()
+        .find(|f| f.file_name().unwrap() == name)
+        .unwrap_or_else(|| panic!("{name} not written: {files:?}"))
+        .clone()
+}
+
+#[test]
+fn fixture_charts_every_chart_in_both_formats() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = chart::draw(
+        &[fixture()],
+        dir.path(),
+        &[ChartFormat::Png, ChartFormat::Svg],
+    )
+    .unwrap();
+    assert_eq!(files.len(), CHARTS.len() * 2);
+    for name in CHARTS {
+        let (w, h) = png_size(&file(&files, &format!("{name}.png")));
+        assert_eq!(w, CHART_SIZE.0, "{name}");
+        assert!(h >= CHART_SIZE.1, "{name}");
+        svg_text(&file(&files, &format!("{name}.svg")));
+    }
+    assert_eq!(png_size(&file(&files, "figure-5-1.png")), CHART_SIZE);
+}
+
+#[test]
+fn svgs_name_every_series_and_the_machine() {
+    let dir = tempfile::tempdir().unwrap();
+    let files = chart::draw(&[fixture()], dir.path(), &[ChartFormat::Svg]).unwrap();
+    assert!(files.iter().all(|f| f.extension().unwrap() == "svg"));
+    let expect: [(&str, &[&str]); 5] = [
+        (
+            "figure-5-1",
+            &[
+                "serial",
+                "UP (1 core)",
+                "DP (2 cores)",
+                "16×16 mesh",
+                "40×40 mesh",
+            ],
+        ),
+        ("relative", &["DP ÷ UP", "DP ÷ serial", "ideal 2.0"]),
+        (
+            "sync",
+            &[
+                "UP (1 core)",
+                "DP (2 cores)",
+                "atomic",
+                "spin",
+                "mutex",
+                "condvar",
+                "mutex-std",
+                "condvar-std",
+            ],
+        ),
+        (
+            "frame-times",
+            &[
+                "atomic",
+                "spin",
+                "mutex",
+                "condvar",
+                "mutex-std",
+                "condvar-std",
+                "serial",
+                "p99",
+            ],
+        ),
+        (
+            "breakdown",
+            &[
+                "workload (main thread)",
+                "waiting for the mesh (main)",
+                "UP spin",
+                "DP atomic",
+                "serial",
+            ],
+        ),
+    ];
+    for (name, series) in expect {
+        let text = svg_text(&file(&files, &format!("{name}.svg")));
+        assert!(
+            text.contains("Intel(R) Xeon(R) Processor"),
+            "{name}: no machine"
+        );
+        assert!(text.contains("2026-11-22"), "{name}: no run date");
+        for s in series {
+            assert!(text.contains(s), "{name}: no {s:?}");
+        }
+        assert!(!text.contains("missing"), "{name}: the fixture is complete");
+    }
+}
+
+#[test]
+fn missing_cells_still_chart_and_are_named() {
+    let mut results = fixture();
+    results.cells.retain(|c| {
+        !(c.key.size == 40 && c.key.mode == Mode::Dp) && c.key.workload != 0 || c.key.size == 16
+    });
+    let dir = tempfile::tempdir().unwrap();
+    let files = chart::draw(
+        &[results],
+        dir.path(),
+        &[ChartFormat::Png, ChartFormat::Svg],
+    )
+    .unwrap();
+    assert_eq!(files.len(), CHARTS.len() * 2);
+    let figure = svg_text(&file(&files, "figure-5-1.svg"));
+    assert!(figure.contains("missing"), "{figure}");
+    assert!(figure.contains("40×40 w0 DP"), "{figure}");
+    assert_eq!(png_size(&file(&files, "figure-5-1.png")), CHART_SIZE);
+}
+
+#[test]
+fn failed_cells_are_named_as_failed() {
+    let mut results = fixture();
+    let cell = results
+        .cells
+        .iter_mut()
+        .find(|c| c.key.size == 40 && c.key.workload == 2 && c.key.mode == Mode::Up)
+        .unwrap();
+    cell.summary = None;
+    cell.error = Some("hand-off timed out".into());
+    let dir = tempfile::tempdir().unwrap();
+    let files = chart::draw(&[results], dir.path(), &[ChartFormat::Svg]).unwrap();
+    let text = svg_text(&file(&files, "figure-5-1.svg"));
+    assert!(text.contains("40×40 w2 UP atomic (failed)"), "{text}");
+}
+
+#[test]
+fn results_without_cells_skip_every_chart_with_a_reason() {
+    let mut results = fixture();
+    results.cells.clear();
+    let dir = tempfile::tempdir().unwrap();
+    let drawn = chart::draw_with(&[results], dir.path(), &ChartOptions::default()).unwrap();
+    assert!(drawn.files.is_empty());
+    assert_eq!(drawn.skipped.len(), CHARTS.len());
+    assert!(drawn.skipped.iter().all(|s| !s.reason.is_empty()));
+}
+
+#[test]
+fn two_runs_side_by_side_are_labelled_by_run() {
+    let a = fixture();
+    let mut b = fixture();
+    b.config.name = "second".into();
+    let dir = tempfile::tempdir().unwrap();
+    let files = chart::draw(&[a, b], dir.path(), &[ChartFormat::Svg]).unwrap();
+    let text = svg_text(&file(&files, "figure-5-1.svg"));
+    for s in [
+        "quick: UP (1 core)",
+        "second: DP (2 cores)",
+        "second: serial",
+    ] {
+        assert!(text.contains(s), "no {s:?}");
+    }
+}
+
+#[test]
+fn a_chosen_cell_drives_the_single_cell_charts() {
+    let dir = tempfile::tempdir().unwrap();
+    let options = ChartOptions {
+        formats: vec![ChartFormat::Svg],
+        size: Some(16),
+        workload: Some(0),
+    };
+    let drawn = chart::draw_with(&[fixture()], dir.path(), &options).unwrap();
+    let text = svg_text(&file(&drawn.files, "breakdown.svg"));
+    assert!(text.contains("16×16 mesh, workload 0"), "{text}");
+}
