@@ -3,6 +3,7 @@
 use crate::config::{InputError, Level, SweepConfig};
 use crate::frame_loop::{Mode, Threading};
 use crate::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
+use crate::report::chart::{self, ChartFormat, ChartOptions};
 use crate::report::{self, compare, compare::CompareBy};
 use crate::results::Results;
 use crate::sweep::Sweep;
@@ -64,6 +65,9 @@ pub enum Command {
         after_help = "Examples:\n  oceanbench sweep\n  oceanbench sweep configs/sync-primitives.json --out results/sync"
     )]
     Sweep(SweepArgs),
+    /// Draw the charts (Figure 5-1, relative, sync, frame-times, breakdown) from results files.
+    #[command(after_help = "Examples:\n  oceanbench chart results/figure-5-1-20261122T020000Z\n  oceanbench chart run-a/results.json run-b/results.json --out charts --format png")]
+    Chart(ChartArgs),
     /// Compare two results files, or the alternatives within one run, with noise-aware verdicts.
     #[command(after_help = "Exit status: 0 nothing regressed, 1 something regressed, 2 bad input.\n\nExamples:\n  oceanbench compare results/base results/new --threshold 5 --format markdown\n  oceanbench compare results/sync-primitives-X --by sync --baseline atomic")]
     Compare(CompareArgs),
@@ -132,6 +136,29 @@ pub struct SweepArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Do not draw the charts at the end.
+    #[arg(long)]
+    pub no_charts: bool,
+}
+
+/// Flags of `oceanbench chart`.
+#[derive(Debug, Args)]
+pub struct ChartArgs {
+    /// Results directories or results.json files (several put runs side by side).
+    #[arg(required = true)]
+    pub results: Vec<PathBuf>,
+    /// Directory for the charts (default: the first results directory).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Image formats.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "png,svg")]
+    pub format: Vec<ChartFormat>,
+    /// Mesh size of the cell the frame-times and breakdown charts show (default: the largest).
+    #[arg(long)]
+    pub size: Option<usize>,
+    /// Workload of that cell (default: the highest).
+    #[arg(long)]
+    pub workload: Option<usize>,
 }
 
 /// Output format of `oceanbench compare`.
@@ -197,6 +224,7 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Run(args) => run(args),
         Command::Sweep(args) => sweep(args),
+        Command::Chart(args) => chart_cmd(args),
         Command::Compare(args) => compare_cmd(args),
         Command::Mesh(args) => mesh(args),
     }
@@ -204,6 +232,42 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
 
 fn load_results(path: &Path) -> Result<Results, CliError> {
     Ok(Results::load(path).map_err(InputError)?)
+}
+
+/// The directory a results path stands for (a results.json's parent, or the directory itself).
+fn results_dir(path: &Path) -> PathBuf {
+    if path.is_dir() {
+        path.to_path_buf()
+    } else {
+        path.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf)
+    }
+}
+
+fn chart_cmd(args: ChartArgs) -> Result<(), CliError> {
+    let runs = args
+        .results
+        .iter()
+        .map(|p| load_results(p))
+        .collect::<Result<Vec<_>, _>>()?;
+    let out = args.out.unwrap_or_else(|| results_dir(&args.results[0]));
+    let options = ChartOptions {
+        formats: args.format,
+        size: args.size,
+        workload: args.workload,
+    };
+    draw_charts(&runs, &out, &options)
+}
+
+/// Draws every chart and prints where they went and which were skipped.
+fn draw_charts(runs: &[Results], out: &Path, options: &ChartOptions) -> Result<(), CliError> {
+    let drawn = chart::draw_with(runs, out, options).map_err(|e| anyhow::anyhow!("{e}"))?;
+    for file in &drawn.files {
+        println!("chart: {}", file.display());
+    }
+    for s in &drawn.skipped {
+        eprintln!("oceanbench: chart {} skipped: {}", s.chart, s.reason);
+    }
+    Ok(())
 }
 
 fn compare_cmd(args: CompareArgs) -> Result<(), CliError> {
@@ -366,6 +430,13 @@ fn sweep(args: SweepArgs) -> Result<(), CliError> {
         return Err(anyhow::anyhow!("writing results into {}: {e}", dir.display()).into());
     }
     println!("{}", report::markdown::to_string(&results));
+    if !args.no_charts {
+        draw_charts(
+            std::slice::from_ref(&results),
+            &dir,
+            &ChartOptions::default(),
+        )?;
+    }
     println!("Results: {}", dir.display());
     fail_on_errors(&results)
 }

@@ -1,5 +1,6 @@
-//! Outputs drawn from a results file: JSON (the file itself), a tidy CSV and the Figure 5-1
-//! markdown table. Each is rewritten whole, atomically, after every finished cell.
+//! Outputs drawn from results files alone: JSON (the file itself), a tidy CSV, the Figure 5-1
+//! markdown table, the charts and the comparisons. The three tables are rewritten whole,
+//! atomically, after every finished cell.
 
 pub mod chart;
 pub mod compare;
