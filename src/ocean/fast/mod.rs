@@ -2,6 +2,7 @@
 //! vector loops selected at run time (see `docs/performance.md`).
 
 pub mod math;
+pub mod norm;
 pub mod phase;
 pub mod simd;
 pub mod stencil;

@@ -6,6 +6,7 @@
 //! time.
 
 use super::math::{fma, pow_abs, powi};
+use super::norm;
 use super::phase::{Power, Tables, WaveConsts};
 
 /// The instruction set a fast kernel runs with.
@@ -73,20 +74,20 @@ pub fn step(isa: Isa, waves: &[WaveConsts], tables: &Tables, out: Out, analytic:
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
         Isa::Avx2 => unsafe { step_avx2(waves, tables, out, analytic) },
-        _ => step_body::<false>(waves, tables, out, analytic),
+        _ => step_body::<false, false>(waves, tables, out, analytic),
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx2,fma")]
 fn step_avx512(waves: &[WaveConsts], tables: &Tables, out: Out, analytic: bool) {
-    step_body::<true>(waves, tables, out, analytic)
+    step_body::<true, true>(waves, tables, out, analytic)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 fn step_avx2(waves: &[WaveConsts], tables: &Tables, out: Out, analytic: bool) {
-    step_body::<true>(waves, tables, out, analytic)
+    step_body::<true, false>(waves, tables, out, analytic)
 }
 
 /// Calls `$f::<F, E>` with the compile-time exponent matching `$e` (0..=MAX_INT_EXP).
@@ -113,8 +114,9 @@ macro_rules! by_exp {
 
 /// Row by row, wave by wave: the row's outputs stay in L1 while every wave adds to them, and
 /// the per-wave branch on the power kind is taken once per row, outside the vector loop.
+/// `W` selects the AVX-512 normalisation (only instantiated inside `step_avx512`).
 #[inline(always)]
-fn step_body<const F: bool>(waves: &[WaveConsts], tables: &Tables, out: Out, analytic: bool) {
+fn step_body<const F: bool, const W: bool>(waves: &[WaveConsts], tables: &Tables, out: Out, analytic: bool) {
     let n = tables.grid.n;
     let rows = out
         .z
@@ -142,7 +144,13 @@ fn step_body<const F: bool>(waves: &[WaveConsts], tables: &Tables, out: Out, ana
             }
         }
         if analytic {
-            normalise::<F>(nx, ny, nz);
+            #[cfg(target_arch = "x86_64")]
+            if W {
+                // SAFETY: W is only set in `step_avx512`, which runs on AVX-512 CPUs.
+                unsafe { norm::slopes_avx512(nx, ny, nz) };
+                continue;
+            }
+            norm::slopes::<F>(nx, ny, nz);
         }
     }
 }
@@ -242,16 +250,5 @@ fn full_gen<const F: bool>(
         let q = p * (h * g);
         *dx = fma::<F>(cx, q, *dx);
         *dy = fma::<F>(cy, q, *dy);
-    }
-}
-
-/// Turns the summed slopes of a row into unit normals (−∂f/∂x, −∂f/∂y, 1)/‖·‖ in place.
-#[inline(always)]
-fn normalise<const F: bool>(nx: &mut [f32], ny: &mut [f32], nz: &mut [f32]) {
-    for ((x, y), z) in nx.iter_mut().zip(ny.iter_mut()).zip(nz.iter_mut()) {
-        let inv = 1.0 / fma::<F>(*x, *x, fma::<F>(*y, *y, 1.0)).sqrt();
-        *x = -*x * inv;
-        *y = -*y * inv;
-        *z = inv;
     }
 }

@@ -7,6 +7,7 @@
 //! sums use the same operations in the same order as `FaceNormals` (glam's cross product,
 //! ascending triangle order, no fused multiply-add), so results match it to rounding.
 
+use super::norm;
 use super::simd::Isa;
 use crate::ocean::mesh::Mesh;
 
@@ -94,7 +95,7 @@ impl StencilNormals {
             #[cfg(target_arch = "x86_64")]
             // SAFETY: as above.
             Isa::Avx2 => unsafe { compute_avx2(self, mesh) },
-            _ => compute_body(self, mesh),
+            _ => compute_body::<false>(self, mesh),
         }
     }
 }
@@ -108,17 +109,18 @@ impl Default for StencilNormals {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx2")]
 fn compute_avx512(s: &mut StencilNormals, mesh: &mut Mesh) {
-    compute_body(s, mesh)
+    compute_body::<true>(s, mesh)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn compute_avx2(s: &mut StencilNormals, mesh: &mut Mesh) {
-    compute_body(s, mesh)
+    compute_body::<false>(s, mesh)
 }
 
+/// `W` selects the AVX-512 normalisation (only instantiated inside `compute_avx512`).
 #[inline(always)]
-fn compute_body(s: &mut StencilNormals, mesh: &mut Mesh) {
+fn compute_body<const W: bool>(s: &mut StencilNormals, mesh: &mut Mesh) {
     let n = s.n;
     s.prev.clear();
     for i in 0..n {
@@ -131,14 +133,20 @@ fn compute_body(s: &mut StencilNormals, mesh: &mut Mesh) {
             s.cur.clear();
         }
         let r = i * n..(i + 1) * n;
-        vertex_row(
-            &s.prev,
-            &s.cur,
+        let (nx, ny, nz) = (
             &mut mesh.nx[r.clone()],
             &mut mesh.ny[r.clone()],
             &mut mesh.nz[r],
         );
+        vertex_row(&s.prev, &s.cur, nx, ny, nz);
         std::mem::swap(&mut s.prev, &mut s.cur);
+        #[cfg(target_arch = "x86_64")]
+        if W {
+            // SAFETY: W is only set in `compute_avx512`, which runs on AVX-512 CPUs.
+            unsafe { norm::sums_avx512(nx, ny, nz) };
+            continue;
+        }
+        norm::sums(nx, ny, nz);
     }
 }
 
@@ -164,7 +172,7 @@ fn face_row(f: &mut FaceRow, dx: &[f32], dy: f32, z0: &[f32], z1: &[f32]) {
     }
 }
 
-/// Sums the six faces around each vertex of a row, in ascending triangle order, and normalises.
+/// Sums the six faces around each vertex of a row, in ascending triangle order.
 #[inline(always)]
 fn vertex_row(p: &FaceRow, c: &FaceRow, nx: &mut [f32], ny: &mut [f32], nz: &mut [f32]) {
     let n = nx.len();
@@ -188,11 +196,8 @@ fn vertex_row(p: &FaceRow, c: &FaceRow, nx: &mut [f32], ny: &mut [f32], nz: &mut
     for j in 0..n {
         let sx = p2x[j] + p1x[j + 1] + p2x[j + 1] + c1x[j] + c2x[j] + c1x[j + 1];
         let sy = p2y[j] + p1y[j + 1] + p2y[j + 1] + c1y[j] + c2y[j] + c1y[j + 1];
-        let sz = pz[j] + pz[j + 1] + pz[j + 1] + cz[j] + cz[j] + cz[j + 1];
-        // sz > 0 (every vertex touches a face), so the length is never zero.
-        let inv = 1.0 / (sx * sx + sy * sy + sz * sz).sqrt();
-        nx[j] = sx * inv;
-        ny[j] = sy * inv;
-        nz[j] = sz * inv;
+        nx[j] = sx;
+        ny[j] = sy;
+        nz[j] = pz[j] + pz[j + 1] + pz[j + 1] + cz[j] + cz[j] + cz[j + 1];
     }
 }
