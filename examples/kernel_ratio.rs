@@ -49,10 +49,7 @@ fn compare(verts: usize, rounds: usize, mut a: impl FnMut(), mut b: impl FnMut()
 }
 
 fn row(name: &str, (r, f): (f64, f64)) {
-    println!(
-        "| {name:<38} | {r:>10.2} | {f:>10.1} | {:>8.1}x |",
-        f / r
-    );
+    println!("| {name:<38} | {r:>10.2} | {f:>10.1} | {:>8.1}x |", f / r);
 }
 
 /// Max abs error of z, nx, ny, nz against the f64 oracle.
@@ -71,7 +68,10 @@ fn errors(waves: &WaveSet, mesh: &Mesh, t: f32) -> [f64; 4] {
 }
 
 fn main() {
-    let args: Vec<usize> = std::env::args().skip(1).map(|a| a.parse().unwrap()).collect();
+    let args: Vec<usize> = std::env::args()
+        .skip(1)
+        .map(|a| a.parse().unwrap())
+        .collect();
     let n = args.first().copied().unwrap_or(256);
     let rounds = args.get(1).copied().unwrap_or(5);
     if let Some(core) = core_affinity::get_core_ids().and_then(|c| c.into_iter().next()) {
@@ -80,10 +80,16 @@ fn main() {
     let grid = Grid::new(n, 1.0).unwrap();
     let verts = grid.vertices();
     let isa = FastKernel::new(&WaveSet::default()).isa();
-    println!("# {n}x{n}, one core, fast kernel ISA {}, {rounds} interleaved rounds, median\n", isa.name());
+    println!(
+        "# {n}x{n}, one core, fast kernel ISA {}, {rounds} interleaved rounds, median\n",
+        isa.name()
+    );
     println!("| case (Mvertices/s)                     |  reference |       fast |    ratio |");
     println!("|----------------------------------------|-----------:|-----------:|---------:|");
-    for (label, waves) in [("", WaveSet::default()), (", non-half-integer k", non_half_integer())] {
+    for (label, waves) in [
+        ("", WaveSet::default()),
+        (", non-half-integer k", non_half_integer()),
+    ] {
         for (what, analytic) in [("heights only", false), ("heights + analytic", true)] {
             let (mut m1, mut m2) = (Mesh::new(grid), Mesh::new(grid));
             let mut fast = FastKernel::new(&waves);
@@ -132,7 +138,10 @@ fn main() {
     println!("| waves | size | t | z | nx | ny | nz |");
     println!("|---|---:|---:|---|---|---|---|");
     let mut worst = [[0.0f64; 4]; 2];
-    for (label, waves) in [("half-int", WaveSet::default()), ("non-half", non_half_integer())] {
+    for (label, waves) in [
+        ("half-int", WaveSet::default()),
+        ("non-half", non_half_integer()),
+    ] {
         for size in [40usize, 256, 1024] {
             let grid = Grid::new(size, 1.0).unwrap();
             for t in [0.0f32, 1.0, 100.0, 1e4] {
@@ -153,7 +162,13 @@ fn main() {
         }
     }
     let fmt = |w: &[f64; 4]| w.map(|e| format!("{e:.1e}")).join(" ");
-    println!("\nworst over all: reference [z nx ny nz] = {}", fmt(&worst[0]));
-    println!("worst over all: fast      [z nx ny nz] = {}", fmt(&worst[1]));
+    println!(
+        "\nworst over all: reference [z nx ny nz] = {}",
+        fmt(&worst[0])
+    );
+    println!(
+        "worst over all: fast      [z nx ny nz] = {}",
+        fmt(&worst[1])
+    );
     let _ = Wave::validate;
 }

@@ -190,7 +190,10 @@ fn ocean_fast_kernel_matches_reference_for_every_normal_method() {
         NormalMethod::Analytic,
     ] {
         let mut meshes = [Mesh::new(grid), Mesh::new(grid)];
-        for (kernel, mesh) in [Kernel::Reference, Kernel::Fast].into_iter().zip(&mut meshes) {
+        for (kernel, mesh) in [Kernel::Reference, Kernel::Fast]
+            .into_iter()
+            .zip(&mut meshes)
+        {
             let mut ocean = Ocean::new(grid, WaveSet::default(), normals, kernel).unwrap();
             ocean.step(3.5, mesh);
         }

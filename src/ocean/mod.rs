@@ -67,8 +67,8 @@ impl Ocean {
         // The fast kernel replaces the gathered neighbour list with a stencil; `lookup` stays
         // the paper's method whichever kernel runs.
         let stencil_normals = kernel == Kernel::Fast && normals == NormalMethod::Neighbors;
-        let faces = (normals != NormalMethod::Analytic && !stencil_normals)
-            .then(|| FaceNormals::new(grid));
+        let faces =
+            (normals != NormalMethod::Analytic && !stencil_normals).then(|| FaceNormals::new(grid));
         let stencil = stencil_normals.then(fast::StencilNormals::new);
         let fast = (kernel == Kernel::Fast).then(|| fast::FastKernel::new(&waves));
         Ok(Ocean {

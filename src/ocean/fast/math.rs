@@ -73,7 +73,7 @@ pub fn exp<const F: bool>(x: f32) -> f32 {
     p = fma::<F>(p, r, 8.333_452e-3);
     p = fma::<F>(p, r, 4.166_579_6e-2);
     p = fma::<F>(p, r, 1.666_666_5e-1);
-    p = fma::<F>(p, r, 5.000_000_1e-1);
+    p = fma::<F>(p, r, 0.5);
     let p = fma::<F>(p, z, r) + 1.0;
     p * f32::from_bits(((n + 127) << 23) as u32)
 }

@@ -60,6 +60,9 @@ mod avx512 {
     }
 
     /// [`super::slopes`] 16 lanes at a time.
+    ///
+    /// # Safety
+    /// The CPU must support AVX-512F.
     #[target_feature(enable = "avx512f")]
     pub fn slopes_avx512(nx: &mut [f32], ny: &mut [f32], nz: &mut [f32]) {
         let n = nx.len().min(ny.len()).min(nz.len());
@@ -92,6 +95,9 @@ mod avx512 {
     }
 
     /// [`super::sums`] 16 lanes at a time (to within an ulp of it).
+    ///
+    /// # Safety
+    /// The CPU must support AVX-512F.
     #[target_feature(enable = "avx512f")]
     pub fn sums_avx512(nx: &mut [f32], ny: &mut [f32], nz: &mut [f32]) {
         let n = nx.len().min(ny.len()).min(nz.len());

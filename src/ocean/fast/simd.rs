@@ -116,7 +116,12 @@ macro_rules! by_exp {
 /// the per-wave branch on the power kind is taken once per row, outside the vector loop.
 /// `W` selects the AVX-512 normalisation (only instantiated inside `step_avx512`).
 #[inline(always)]
-fn step_body<const F: bool, const W: bool>(waves: &[WaveConsts], tables: &Tables, out: Out, analytic: bool) {
+fn step_body<const F: bool, const W: bool>(
+    waves: &[WaveConsts],
+    tables: &Tables,
+    out: Out,
+    analytic: bool,
+) {
     let n = tables.grid.n;
     let rows = out
         .z
