@@ -1,5 +1,6 @@
 //! The ocean surface: waves, the grid mesh, normals and the per-frame step that fills them.
 
+pub mod fast;
 pub mod mesh;
 pub mod normals;
 pub mod reference;
@@ -18,6 +19,9 @@ use serde::{Deserialize, Serialize};
 pub enum Kernel {
     /// The straight port of section 4.2, kept as the oracle.
     Reference,
+    /// Separable phase tables, half-angle powers and run-time selected vector code; the same
+    /// surface as `Reference`.
+    Fast,
 }
 
 impl Kernel {
@@ -25,6 +29,7 @@ impl Kernel {
     pub fn name(self) -> &'static str {
         match self {
             Kernel::Reference => "reference",
+            Kernel::Fast => "fast",
         }
     }
 }
@@ -37,6 +42,8 @@ pub struct Ocean {
     normals: NormalMethod,
     kernel: Kernel,
     faces: Option<FaceNormals>,
+    fast: Option<fast::FastKernel>,
+    stencil: Option<fast::StencilNormals>,
 }
 
 impl Ocean {
@@ -57,12 +64,20 @@ impl Ocean {
                 normals::lookup_max_size()
             ));
         }
-        let faces = (normals != NormalMethod::Analytic).then(|| FaceNormals::new(grid));
+        // The fast kernel replaces the gathered neighbour list with a stencil; `lookup` stays
+        // the paper's method whichever kernel runs.
+        let stencil_normals = kernel == Kernel::Fast && normals == NormalMethod::Neighbors;
+        let faces =
+            (normals != NormalMethod::Analytic && !stencil_normals).then(|| FaceNormals::new(grid));
+        let stencil = stencil_normals.then(fast::StencilNormals::new);
+        let fast = (kernel == Kernel::Fast).then(|| fast::FastKernel::new(&waves));
         Ok(Ocean {
             waves,
             normals,
             kernel,
             faces,
+            fast,
+            stencil,
         })
     }
 
@@ -71,9 +86,16 @@ impl Ocean {
         let analytic = self.normals == NormalMethod::Analytic;
         match self.kernel {
             Kernel::Reference => reference::step(&self.waves, mesh, t, analytic),
+            Kernel::Fast => {
+                let fast = self.fast.as_mut().expect("built for Kernel::Fast");
+                fast.step(mesh, t, analytic);
+            }
         }
         if let Some(faces) = &mut self.faces {
             faces.compute(mesh, self.normals);
+        }
+        if let Some(stencil) = &mut self.stencil {
+            stencil.compute(mesh);
         }
     }
 }

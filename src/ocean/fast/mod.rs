@@ -1,0 +1,64 @@
+//! The fast kernel: the reference surface from separable phase tables, half-angle powers and
+//! vector loops selected at run time (see `docs/performance.md`).
+
+pub mod math;
+pub mod norm;
+pub mod phase;
+pub mod simd;
+pub mod stencil;
+
+pub use simd::Isa;
+pub use stencil::StencilNormals;
+
+use super::mesh::Mesh;
+use super::waves::WaveSet;
+use phase::{Tables, WaveConsts};
+
+/// Per-ocean state of the fast kernel: hoisted wave constants and the phase tables of the grid
+/// last stepped (rebuilt when a mesh of another grid comes in).
+#[derive(Clone, Debug)]
+pub struct FastKernel {
+    isa: Isa,
+    waves: Vec<WaveConsts>,
+    tables: Option<Tables>,
+}
+
+impl FastKernel {
+    /// A fast kernel for `waves` using the widest instruction set this CPU has.
+    pub fn new(waves: &WaveSet) -> Self {
+        Self::with_isa(waves, Isa::detect())
+    }
+
+    /// A fast kernel forced to `isa`, which must be one of `Isa::available()`.
+    pub fn with_isa(waves: &WaveSet, isa: Isa) -> Self {
+        assert!(Isa::available().contains(&isa), "{isa:?} not supported");
+        FastKernel {
+            isa,
+            waves: WaveConsts::from_set(waves),
+            tables: None,
+        }
+    }
+
+    /// The instruction set in use.
+    pub fn isa(&self) -> Isa {
+        self.isa
+    }
+
+    /// Fills `mesh.z` for time `t` and, with `analytic_normals`, the normals from the partial
+    /// derivatives: the same surface as `reference::step`. The mesh must be a regular grid as
+    /// `Mesh::new` builds it (x depends on the column only, y on the row only).
+    pub fn step(&mut self, mesh: &mut Mesh, t: f32, analytic_normals: bool) {
+        let tables = match &mut self.tables {
+            Some(tb) if tb.grid == mesh.grid => tb,
+            slot => slot.insert(Tables::new(&self.waves, mesh)),
+        };
+        tables.set_time(&self.waves, t as f64);
+        let out = simd::Out {
+            z: &mut mesh.z,
+            nx: &mut mesh.nx,
+            ny: &mut mesh.ny,
+            nz: &mut mesh.nz,
+        };
+        simd::step(self.isa, &self.waves, tables, out, analytic_normals);
+    }
+}

@@ -1,0 +1,149 @@
+//! Per-wave constants and the separable phase tables.
+//!
+//! The phase S = a·x + (b·y + φ·t) splits into a column part and a row part, so sin and cos of
+//! the half angle θ = S/2 + π/4 come from one table entry per column and one value per row by
+//! angle addition. Every phase is reduced to a fraction of a turn in f64 before it becomes an
+//! f32, which keeps large t and large grids as accurate as small ones.
+
+use crate::ocean::mesh::{Grid, Mesh};
+use crate::ocean::waves::WaveSet;
+use std::f64::consts::{FRAC_PI_4, PI};
+
+/// Largest exponent 2k − 2 evaluated by repeated multiplication; above it the polynomial
+/// exp/log path is used.
+pub const MAX_INT_EXP: u32 = 12;
+
+/// How |h|^(2k−2) is evaluated for one wave.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Power {
+    /// Half-integer k: the exponent 2k − 2 is this integer, so a few multiplies suffice.
+    Int(u32),
+    /// Any other k: exp((2k − 2)·ln|h|) with polynomial exp and log.
+    General(f32),
+}
+
+/// The per-wave values the inner loops need, hoisted out of them.
+#[derive(Clone, Debug)]
+pub struct WaveConsts {
+    /// Amplitude A (height term A·|h|^(2k)).
+    pub amp: f32,
+    /// k·(2π/L)·A·Dx: ∂f/∂x = cx·|h|^(2k−2)·h·g, since cos S = 2·sin θ·cos θ.
+    pub cx: f32,
+    /// k·(2π/L)·A·Dy, the y counterpart of `cx`.
+    pub cy: f32,
+    /// How the power is evaluated.
+    pub power: Power,
+    /// Dx/L in f64: column phase in turns per unit x.
+    col_turns: f64,
+    /// Dy/L in f64: row phase in turns per unit y.
+    row_turns: f64,
+    /// speed/L in f64: turns per second.
+    time_turns: f64,
+}
+
+impl WaveConsts {
+    /// Constants of every enabled wave, in set order (disabled waves cost nothing).
+    pub fn from_set(waves: &WaveSet) -> Vec<WaveConsts> {
+        waves
+            .enabled()
+            .map(|w| {
+                let [dx, dy] = w.unit_direction();
+                let k = w.steepness;
+                let twice = 2.0 * k;
+                let power = if twice.fract() == 0.0 && twice - 2.0 <= MAX_INT_EXP as f32 {
+                    Power::Int((twice - 2.0) as u32)
+                } else {
+                    Power::General(twice - 2.0)
+                };
+                let c = k * w.frequency() * w.amplitude;
+                let inv_l = 1.0 / w.wavelength as f64;
+                WaveConsts {
+                    amp: w.amplitude,
+                    cx: c * dx,
+                    cy: c * dy,
+                    power,
+                    col_turns: dx as f64 * inv_l,
+                    row_turns: dy as f64 * inv_l,
+                    time_turns: w.speed as f64 * inv_l,
+                }
+            })
+            .collect()
+    }
+}
+
+/// Half angle π·frac(turns): the reduction to [0, π) flips the sign of both sin θ and cos θ at
+/// most, which leaves sin²θ and sin θ·cos θ (all the kernel uses) unchanged.
+fn half_angle(turns: f64) -> f64 {
+    PI * (turns - turns.floor())
+}
+
+/// Column tables (fixed for a grid) and the row values of the current step.
+#[derive(Clone, Debug)]
+pub struct Tables {
+    /// The grid the tables were built for.
+    pub grid: Grid,
+    /// sin of the column half angle, `[wave·n + j]`.
+    pub col_sin: Vec<f32>,
+    /// cos of the column half angle, `[wave·n + j]`.
+    pub col_cos: Vec<f32>,
+    /// sin of the row half angle at t = 0 (π/4 included), `[wave·n + i]`, kept in f64 so the
+    /// per-step rotation by the time phase adds no f32 error.
+    row_sin0: Vec<f64>,
+    /// cos counterpart of `row_sin0`.
+    row_cos0: Vec<f64>,
+    /// sin of the row half angle at the current t, `[wave·n + i]`.
+    pub row_sin: Vec<f32>,
+    /// cos of the row half angle at the current t, `[wave·n + i]`.
+    pub row_cos: Vec<f32>,
+}
+
+impl Tables {
+    /// Builds the tables from the mesh's own coordinates (x of row 0, y of column 0), so the
+    /// surface is evaluated at exactly the points the reference uses.
+    pub fn new(waves: &[WaveConsts], mesh: &Mesh) -> Tables {
+        let n = mesh.grid.n;
+        let len = waves.len() * n;
+        let mut t = Tables {
+            grid: mesh.grid,
+            col_sin: Vec::with_capacity(len),
+            col_cos: Vec::with_capacity(len),
+            row_sin0: Vec::with_capacity(len),
+            row_cos0: Vec::with_capacity(len),
+            row_sin: vec![0.0; len],
+            row_cos: vec![0.0; len],
+        };
+        for w in waves {
+            for &x in &mesh.x[..n] {
+                let (s, c) = half_angle(w.col_turns * x as f64).sin_cos();
+                t.col_sin.push(s as f32);
+                t.col_cos.push(c as f32);
+            }
+            for i in 0..n {
+                let y = mesh.y[i * n] as f64;
+                let (s, c) = (half_angle(w.row_turns * y) + FRAC_PI_4).sin_cos();
+                t.row_sin0.push(s);
+                t.row_cos0.push(c);
+            }
+        }
+        t
+    }
+
+    /// Rotates every row half angle by the time phase of `t` (one f64 sin/cos per wave).
+    pub fn set_time(&mut self, waves: &[WaveConsts], t: f64) {
+        let n = self.grid.n;
+        for (w, wave) in waves.iter().enumerate() {
+            let (st, ct) = half_angle(wave.time_turns * t).sin_cos();
+            let range = w * n..(w + 1) * n;
+            let src = self.row_sin0[range.clone()]
+                .iter()
+                .zip(&self.row_cos0[range.clone()]);
+            let dst = self.row_sin[range.clone()]
+                .iter_mut()
+                .zip(&mut self.row_cos[range]);
+            for ((&s0, &c0), (s, c)) in src.zip(dst) {
+                *s = (s0 * ct + c0 * st) as f32;
+                *c = (c0 * ct - s0 * st) as f32;
+            }
+        }
+    }
+}
