@@ -66,10 +66,14 @@ pub enum Command {
     )]
     Sweep(SweepArgs),
     /// Draw the charts (Figure 5-1, relative, sync, frame-times, breakdown) from results files.
-    #[command(after_help = "Examples:\n  oceanbench chart results/figure-5-1-20261122T020000Z\n  oceanbench chart run-a/results.json run-b/results.json --out charts --format png")]
+    #[command(
+        after_help = "Examples:\n  oceanbench chart results/figure-5-1-20261122T020000Z\n  oceanbench chart run-a/results.json run-b/results.json --out charts --format png"
+    )]
     Chart(ChartArgs),
     /// Compare two results files, or the alternatives within one run, with noise-aware verdicts.
-    #[command(after_help = "Exit status: 0 nothing regressed, 1 something regressed, 2 bad input.\n\nExamples:\n  oceanbench compare results/base results/new --threshold 5 --format markdown\n  oceanbench compare results/sync-primitives-X --by sync --baseline atomic")]
+    #[command(
+        after_help = "Exit status: 0 nothing regressed, 1 something regressed, 2 bad input.\n\nExamples:\n  oceanbench compare results/base results/new --threshold 5 --format markdown\n  oceanbench compare results/sync-primitives-X --by sync --baseline atomic"
+    )]
     Compare(CompareArgs),
     /// Write one frame of the surface as CSV (i,j,x,y,z,nx,ny,nz).
     #[command(
@@ -139,6 +143,9 @@ pub struct SweepArgs {
     /// Do not draw the charts at the end.
     #[arg(long)]
     pub no_charts: bool,
+    /// Continue the interrupted sweep in this results directory (only its missing cells).
+    #[arg(long, conflicts_with = "out")]
+    pub resume: Option<PathBuf>,
 }
 
 /// Flags of `oceanbench chart`.
@@ -239,7 +246,8 @@ fn results_dir(path: &Path) -> PathBuf {
     if path.is_dir() {
         path.to_path_buf()
     } else {
-        path.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf)
+        path.parent()
+            .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
     }
 }
 
@@ -281,10 +289,8 @@ fn compare_cmd(args: CompareArgs) -> Result<(), CliError> {
     let base = load_results(&args.base)?;
     let comparison = match (&args.new, args.by, &args.baseline) {
         (Some(new), None, _) => compare::between(&base, &load_results(new)?, args.threshold),
-        (None, Some(by), Some(baseline)) => {
-            compare::within(&base, by, baseline, args.threshold)
-                .map_err(|e| InputError(e.to_string()))?
-        }
+        (None, Some(by), Some(baseline)) => compare::within(&base, by, baseline, args.threshold)
+            .map_err(|e| InputError(e.to_string()))?,
         _ => {
             return Err(InputError(
                 "compare: give BASE NEW, or one RESULTS with --by and --baseline".into(),
@@ -329,7 +335,7 @@ fn run(args: RunArgs) -> Result<(), CliError> {
         prepare_out_dir(dir)?;
     }
     let sweep = Sweep::prepare(config)?;
-    let results = sweep.run(|_, _| {}, |_| {});
+    let results = sweep.run(|_| {}, |_| {});
     if let Some(dir) = &args.out {
         report::write_all(dir, &results).map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?;
     }
@@ -387,39 +393,99 @@ fn prepare_out_dir(dir: &Path) -> Result<(), CliError> {
     Ok(())
 }
 
+/// Names the top-level keys where two configs differ.
+fn config_differences(a: &SweepConfig, b: &SweepConfig) -> Vec<String> {
+    let (Ok(serde_json::Value::Object(a)), Ok(serde_json::Value::Object(b))) =
+        (serde_json::to_value(a), serde_json::to_value(b))
+    else {
+        return vec!["(unreadable)".into()];
+    };
+    let keys: std::collections::BTreeSet<&String> = a
+        .keys()
+        .chain(b.keys())
+        .filter(|k| a.get(*k) != b.get(*k))
+        .collect();
+    keys.into_iter().cloned().collect()
+}
+
 fn sweep(args: SweepArgs) -> Result<(), CliError> {
     let config = match &args.config {
-        Some(path) => SweepConfig::load(path)?,
-        None => SweepConfig::default(),
+        Some(path) => Some(SweepConfig::load(path)?),
+        None => None,
     };
-    config.validate()?;
-    let dir = args.out.clone().unwrap_or_else(|| {
-        let stamp: String = crate::sweep::utc_now()
-            .chars()
-            .filter(|c| c.is_ascii_alphanumeric())
-            .collect();
-        PathBuf::from("results").join(format!("{}-{stamp}", config.name))
+    let (sweep, dir) = match &args.resume {
+        Some(dir) => {
+            let previous = load_results(dir)?;
+            if let Some(config) = &config {
+                let differ = config_differences(config, &previous.config);
+                if !differ.is_empty() {
+                    return Err(InputError(format!(
+                        "--resume: the config differs from the one recorded in {} (fields: {}); \
+                         resume without a config, or start a new sweep",
+                        dir.display(),
+                        differ.join(", ")
+                    ))
+                    .into());
+                }
+            }
+            let sweep = Sweep::resume(previous)?;
+            if sweep.keys().is_empty() {
+                println!(
+                    "Nothing to resume: every cell of the config is in {}",
+                    dir.display()
+                );
+                return Ok(());
+            }
+            eprintln!(
+                "oceanbench: resuming {}: {} cells to run",
+                dir.display(),
+                sweep.keys().len()
+            );
+            (sweep, results_dir(dir))
+        }
+        None => {
+            let config = config.unwrap_or_default();
+            config.validate()?;
+            let dir = args.out.clone().unwrap_or_else(|| {
+                let stamp: String = crate::sweep::utc_now()
+                    .chars()
+                    .filter(|c| c.is_ascii_alphanumeric())
+                    .collect();
+                PathBuf::from("results").join(format!("{}-{stamp}", config.name))
+            });
+            prepare_out_dir(&dir)?;
+            eprintln!("oceanbench: calibrating; results go to {}", dir.display());
+            (Sweep::prepare(config)?, dir)
+        }
+    };
+    let stop = sweep.stop_flag();
+    // A second signal exits at once: every file on disk is whole, since each is renamed into place.
+    let _ = ctrlc::set_handler(move || {
+        if stop.swap(true, std::sync::atomic::Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+        eprintln!("\noceanbench: stopping after the current frame (again to quit now)");
     });
-    prepare_out_dir(&dir)?;
-    eprintln!("oceanbench: calibrating; results go to {}", dir.display());
-    let sweep = Sweep::prepare(config)?;
     let bar = if args.quiet {
         indicatif::ProgressBar::hidden()
     } else {
-        indicatif::ProgressBar::new(sweep.keys().len() as u64)
+        indicatif::ProgressBar::new(0)
     };
     bar.set_style(
         indicatif::ProgressStyle::with_template(
-            "{elapsed_precise} [{bar:30}] {pos}/{len} cells, eta {eta} {msg}",
+            "{elapsed_precise} [{bar:30}] {pos}/{len} trials, eta {eta} {msg}",
         )
         .expect("the template is valid")
         .progress_chars("=> "),
     );
     let mut write_error = None;
     let results = sweep.run(
-        |_, key| bar.set_message(key.label()),
+        |p| {
+            bar.set_length(p.total as u64);
+            bar.set_position(p.done as u64);
+            bar.set_message(p.cell.label());
+        },
         |results| {
-            bar.set_position(results.cells.len() as u64);
             if let Err(e) = report::write_all(&dir, results) {
                 write_error.get_or_insert(e);
             }
@@ -429,7 +495,17 @@ fn sweep(args: SweepArgs) -> Result<(), CliError> {
     if let Some(e) = write_error {
         return Err(anyhow::anyhow!("writing results into {}: {e}", dir.display()).into());
     }
+    if results.finished.is_none() {
+        eprintln!(
+            "oceanbench: interrupted; {} finished cells kept in {}. Resume with:\n  oceanbench sweep --resume {}",
+            results.cells.len(),
+            dir.display(),
+            dir.display()
+        );
+        std::process::exit(130);
+    }
     println!("{}", report::markdown::to_string(&results));
+    warn_about_placement(&results);
     if !args.no_charts {
         draw_charts(
             std::slice::from_ref(&results),
@@ -439,6 +515,24 @@ fn sweep(args: SweepArgs) -> Result<(), CliError> {
     }
     println!("Results: {}", dir.display());
     fail_on_errors(&results)
+}
+
+/// Warns about pins that did not hold and about the two cores moving mid-run.
+fn warn_about_placement(results: &Results) {
+    let unpinned = results
+        .cells
+        .iter()
+        .filter(|c| !c.pinned && c.error.is_none())
+        .count();
+    if unpinned > 0 {
+        eprintln!("oceanbench: warning: {unpinned} cell(s) ran with a pin the OS did not hold; see `pinned` in results.json");
+    }
+    if let Some((lo, hi)) = results.round_trip.changed() {
+        eprintln!(
+            "oceanbench: warning: the cross-core round trip ranged from {lo:.0} to {hi:.0} ns during the run: \
+             the two cores moved between near and far placements, so DP figures from different parts of the run differ"
+        );
+    }
 }
 
 fn mesh(args: MeshArgs) -> Result<(), CliError> {

@@ -127,6 +127,9 @@ pub struct SweepConfig {
     pub cores: Option<Vec<usize>>,
     /// Seconds a hand-off wait may take before the cell is aborted.
     pub timeout_seconds: f64,
+    /// Fault injection for testing timeouts: every helper stops producing at this frame.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub inject_stall_at_frame: Option<u64>,
 }
 
 impl Default for SweepConfig {
@@ -143,8 +146,8 @@ impl Default for SweepConfig {
             kernel: vec![Kernel::Reference],
             trials: 5,
             warmup_frames: 20,
-            min_frames: 100,
-            min_seconds: 0.4,
+            min_frames: 60,
+            min_seconds: 0.5,
             max_seconds: 10.0,
             workload_levels: default_levels(),
             spacing: 1.0,
@@ -153,6 +156,7 @@ impl Default for SweepConfig {
             waves_file: None,
             cores: None,
             timeout_seconds: 5.0,
+            inject_stall_at_frame: None,
         }
     }
 }
@@ -162,9 +166,9 @@ impl Default for SweepConfig {
 pub fn default_levels() -> Vec<Level> {
     vec![
         Level::micros(0.0),
-        Level::step_fraction(0.5, 40),
-        Level::step_fraction(0.5, 128),
-        Level::step_fraction(1.5, 256),
+        Level::step_fraction(0.7, 40),
+        Level::step_fraction(0.7, 128),
+        Level::step_fraction(1.25, 256),
     ]
 }
 

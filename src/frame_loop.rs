@@ -7,6 +7,7 @@ use crate::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
 use crate::sync::{Handoff, Released, Slot, SyncMethod};
 use crate::workload;
 use serde::{Deserialize, Serialize};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -88,6 +89,18 @@ pub struct LoopSpec {
     pub time_step: f64,
     /// How long a hand-off wait may take before the cell is aborted.
     pub timeout: Duration,
+    /// Set from outside (Ctrl-C, SIGTERM) to stop the loop after the current frame.
+    pub stop: Option<Arc<AtomicBool>>,
+    /// Fault injection for testing the timeout: the helper stops producing at this frame.
+    pub stall_at_frame: Option<u64>,
+}
+
+impl LoopSpec {
+    fn stopped(&self) -> bool {
+        self.stop
+            .as_ref()
+            .is_some_and(|s| s.load(Ordering::Relaxed))
+    }
 }
 
 /// When a trial stops.
@@ -141,6 +154,9 @@ pub enum LoopError {
     /// The spec is not runnable (e.g. `lookup` on too large a grid).
     #[error("{0}")]
     Spec(String),
+    /// The stop flag was raised; the trial is incomplete.
+    #[error("interrupted")]
+    Interrupted,
 }
 
 /// The outcome of one loop: the measured frames and how the pins went.
@@ -181,7 +197,7 @@ where
         std::thread::Builder::new()
             .name("ocean-main".into())
             .spawn_scoped(s, move || match (spec.mode, spec.threading) {
-                (Mode::Serial, _) => Ok(serial(spec, budget, ocean, observe)),
+                (Mode::Serial, _) => serial(spec, budget, ocean, observe),
                 (_, Threading::Pool) => pool(spec, budget, ocean, observe),
                 (_, Threading::Spawn) => spawn_per_frame(spec, budget, ocean, observe),
             })
@@ -233,7 +249,7 @@ fn serial<F: FnMut(u64, &Mesh)>(
     budget: &Budget,
     mut ocean: Ocean,
     mut observe: F,
-) -> LoopRun {
+) -> Result<LoopRun, LoopError> {
     let main_pin = affinity::pin_current(spec.main_core);
     let mut mesh = Mesh::new(spec.grid);
     let mut render = Mesh::new(spec.grid);
@@ -258,12 +274,15 @@ fn serial<F: FnMut(u64, &Mesh)>(
         if stop {
             break;
         }
+        if spec.stopped() {
+            return Err(LoopError::Interrupted);
+        }
     }
-    LoopRun {
+    Ok(LoopRun {
         trial: clock.trial(),
         main_pin,
         helper_pin: None,
-    }
+    })
 }
 
 /// The main thread's side of one threaded frame: workload, wait, copy, release.
@@ -314,6 +333,12 @@ fn stalled(spec: &LoopSpec, who: &'static str) -> LoopError {
 
 /// The helper's side of one frame: compute frame k's mesh into the slot and publish it.
 fn produce(spec: &LoopSpec, k: u64, ocean: &mut Ocean, slot: &Slot<Frame>, handoff: &dyn Handoff) {
+    if spec.stall_at_frame == Some(k) {
+        // A helper that never publishes again: the main thread's timeout must end the cell.
+        loop {
+            std::thread::park();
+        }
+    }
     // SAFETY: the slot is Empty (never published, or released by the main thread), so the main
     // thread is not reading it.
     let frame = unsafe { slot.get_mut() };
@@ -369,6 +394,9 @@ fn pool<F: FnMut(u64, &Mesh)>(
             Ok(record) => {
                 if clock.finish(record) {
                     break Ok(());
+                }
+                if spec.stopped() {
+                    break Err(LoopError::Interrupted);
                 }
             }
             Err(e) => break Err(e),
@@ -432,6 +460,9 @@ fn spawn_per_frame<F: FnMut(u64, &Mesh)>(
         record.total_ns = ns(t0.elapsed());
         if clock.finish(record) {
             break;
+        }
+        if spec.stopped() {
+            return Err(LoopError::Interrupted);
         }
     }
     Ok(LoopRun {

@@ -117,13 +117,35 @@ pub struct CalibrationRecord {
     pub levels: Vec<LevelRecord>,
 }
 
-/// The cross-core round trip at the start and end of a run.
+/// The cross-core round trip at the start, between groups of cells, and at the end of a run.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Placement {
     /// Measured before the first cell.
     pub before: Option<RoundTrip>,
+    /// Measured after each group of interleaved cells.
+    #[serde(default)]
+    pub during: Vec<RoundTrip>,
     /// Measured after the last cell.
     pub after: Option<RoundTrip>,
+}
+
+/// Fastest ÷ slowest median round trip that counts as the same placement.
+pub const PLACEMENT_CHANGE_RATIO: f64 = 2.0;
+
+impl Placement {
+    /// Every measurement in time order.
+    pub fn all(&self) -> impl Iterator<Item = &RoundTrip> {
+        self.before.iter().chain(&self.during).chain(&self.after)
+    }
+
+    /// (fastest, slowest) median round trip when they differ by more than
+    /// [`PLACEMENT_CHANGE_RATIO`]: the two cores moved between near and far placements mid-run.
+    pub fn changed(&self) -> Option<(f64, f64)> {
+        let medians: Vec<f64> = self.all().map(|r| r.median_ns).collect();
+        let lo = medians.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = medians.iter().copied().fold(0.0, f64::max);
+        (medians.len() > 1 && hi > lo * PLACEMENT_CHANGE_RATIO).then_some((lo, hi))
+    }
 }
 
 /// A whole results file.

@@ -3,14 +3,17 @@
 
 use crate::config::{InputError, SweepConfig};
 use crate::crosscore;
-use crate::frame_loop::{self, LoopSpec, Mode};
+use crate::frame_loop::{self, LoopError, LoopSpec, Mode, Threading};
 use crate::machine::Machine;
 use crate::measure::{Summary, Trial};
 use crate::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
 use crate::results::{
     CalibrationRecord, Cell, CellKey, LevelRecord, Pins, Placement, Results, StepTime,
 };
+use crate::sync::SyncMethod;
 use crate::workload::Calibration;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant, SystemTime};
 
 /// Every cell of the config in the order they run: size, workload, then normals, kernel, and
@@ -123,13 +126,25 @@ pub fn utc_now() -> String {
 /// Batches per cross-core measurement: about 50 ms on a far placement.
 const ROUND_TRIP_BATCHES: usize = 500;
 
+/// Progress of a sweep, for a progress bar.
+#[derive(Clone, Debug)]
+pub struct Progress<'a> {
+    /// Trials finished so far.
+    pub done: usize,
+    /// Trials in the whole sweep.
+    pub total: usize,
+    /// The cell about to run.
+    pub cell: &'a CellKey,
+}
+
 /// A sweep ready to run: validated config, waves, placement and calibration.
 pub struct Sweep {
-    /// The results so far (cells grow as they finish).
+    /// The results so far (cells grow as groups finish).
     pub results: Results,
     waves: WaveSet,
     cores: [usize; 2],
     keys: Vec<CellKey>,
+    stop: Arc<AtomicBool>,
 }
 
 impl Sweep {
@@ -139,7 +154,7 @@ impl Sweep {
         config.validate()?;
         let waves = config.wave_set()?;
         let cores = config.placement()?;
-        let round_trip_before = (cores[0] != cores[1])
+        let before = (cores[0] != cores[1])
             .then(|| crosscore::round_trip(cores[0], cores[1], ROUND_TRIP_BATCHES));
         let calibration = calibrate(&config, &waves);
         let keys = cells(&config);
@@ -149,7 +164,8 @@ impl Sweep {
                 config,
                 calibration,
                 round_trip: Placement {
-                    before: round_trip_before,
+                    before,
+                    during: Vec::new(),
                     after: None,
                 },
                 started: utc_now(),
@@ -159,6 +175,30 @@ impl Sweep {
             waves,
             cores,
             keys,
+            stop: Arc::new(AtomicBool::new(false)),
+        })
+    }
+
+    /// Continues an interrupted sweep: same config, same calibration (so the workload levels are
+    /// the same iterations), only the cells `previous` lacks.
+    pub fn resume(previous: Results) -> Result<Sweep, InputError> {
+        let config = previous.config.clone();
+        config.validate()?;
+        let waves = config.wave_set()?;
+        let cores = config.placement()?;
+        let keys = cells(&config)
+            .into_iter()
+            .filter(|k| previous.cell(k).is_none())
+            .collect();
+        Ok(Sweep {
+            results: Results {
+                finished: None,
+                ..previous
+            },
+            waves,
+            cores,
+            keys,
+            stop: Arc::new(AtomicBool::new(false)),
         })
     }
 
@@ -167,19 +207,57 @@ impl Sweep {
         &self.keys
     }
 
-    /// Runs every cell, calling `on_cell` with the results after each one finishes (measured or
-    /// failed) and `on_start` before each starts.
+    /// The flag that stops the sweep after the current frame when raised.
+    pub fn stop_flag(&self) -> Arc<AtomicBool> {
+        Arc::clone(&self.stop)
+    }
+
+    /// Runs the cells group by group, calling `on_progress` before every trial and `on_cell`
+    /// with the results after each group is persisted-ready.
+    ///
+    /// A group is one row of Figure 5-1 (same size, workload, normals and kernel): its cells'
+    /// trials run in rotation (A B C A B C ...) so slow drift, such as the vCPUs moving between
+    /// near and far placements, hits every cell of the row alike. The cross-core round trip is
+    /// measured again after every group.
     pub fn run(
         mut self,
-        mut on_start: impl FnMut(usize, &CellKey),
+        mut on_progress: impl FnMut(Progress<'_>),
         mut on_cell: impl FnMut(&Results),
     ) -> Results {
         let keys = std::mem::take(&mut self.keys);
-        for (i, key) in keys.iter().enumerate() {
-            on_start(i, key);
-            let cell = self.run_cell(key);
-            self.results.cells.push(cell);
+        let trials = self.results.config.trials as usize;
+        let total = keys.len() * trials;
+        let mut done = 0;
+        for group in keys.chunk_by(|a, b| {
+            (a.size, a.workload, a.normals, a.kernel) == (b.size, b.workload, b.normals, b.kernel)
+        }) {
+            let mut runs: Vec<CellRun> = group.iter().map(|k| self.start_cell(k)).collect();
+            for _ in 0..trials {
+                for run in runs.iter_mut().filter(|r| r.error.is_none()) {
+                    on_progress(Progress {
+                        done,
+                        total,
+                        cell: &run.key,
+                    });
+                    match frame_loop::run(&run.spec, &self.results.config.budget(), |_, _| {}) {
+                        Ok(lr) => run.record(lr),
+                        Err(LoopError::Interrupted) => return self.results,
+                        Err(e) => run.error = Some(e.to_string()),
+                    }
+                    done += 1;
+                }
+            }
+            self.results
+                .cells
+                .extend(runs.into_iter().map(CellRun::finish));
+            if self.cores[0] != self.cores[1] {
+                let rt = crosscore::round_trip(self.cores[0], self.cores[1], ROUND_TRIP_BATCHES);
+                self.results.round_trip.during.push(rt);
+            }
             on_cell(&self.results);
+            if self.stop.load(Ordering::Relaxed) {
+                return self.results;
+            }
         }
         if self.cores[0] != self.cores[1] {
             self.results.round_trip.after = Some(crosscore::round_trip(
@@ -193,7 +271,7 @@ impl Sweep {
         self.results
     }
 
-    fn run_cell(&self, key: &CellKey) -> Cell {
+    fn start_cell(&self, key: &CellKey) -> CellRun {
         let config = &self.results.config;
         let iterations = self.results.calibration.levels[key.workload].iterations;
         let helper_core = match key.mode {
@@ -206,49 +284,63 @@ impl Sweep {
             normals: key.normals,
             kernel: key.kernel,
             mode: key.mode,
-            sync: key.sync.unwrap_or(crate::sync::SyncMethod::Atomic),
-            threading: key.threading.unwrap_or(frame_loop::Threading::Pool),
+            sync: key.sync.unwrap_or(SyncMethod::Atomic),
+            threading: key.threading.unwrap_or(Threading::Pool),
             workload_iterations: iterations,
             main_core: self.cores[0],
             helper_core,
             time_step: config.time_step,
             timeout: Duration::from_secs_f64(config.timeout_seconds),
+            stop: Some(Arc::clone(&self.stop)),
+            stall_at_frame: config.inject_stall_at_frame,
         };
-        let budget = config.budget();
-        let mut trials: Vec<Trial> = Vec::new();
-        let mut pinned = true;
-        let mut pins = Pins {
-            main_core: spec.main_core,
-            helper_core: (key.mode != Mode::Serial).then_some(helper_core),
-            main_held: false,
-            helper_held: None,
-        };
-        let mut error = None;
-        for _ in 0..config.trials {
-            match frame_loop::run(&spec, &budget, |_, _| {}) {
-                Ok(run) => {
-                    pins.main_held = run.main_pin.held;
-                    pins.helper_held = run.helper_pin.map(|p| p.held);
-                    pinned &= run.main_pin.held && run.helper_pin.is_none_or(|p| p.held);
-                    trials.push(run.trial);
-                }
-                Err(e) => {
-                    error = Some(e.to_string());
-                    break;
-                }
-            }
-        }
-        Cell {
+        CellRun {
             key: key.clone(),
-            workload_iterations: iterations,
-            summary: if error.is_none() {
-                Summary::of(&trials)
-            } else {
-                None
+            pins: Pins {
+                main_core: spec.main_core,
+                helper_core: (key.mode != Mode::Serial).then_some(helper_core),
+                main_held: false,
+                helper_held: None,
             },
-            pinned: pinned && error.is_none(),
-            pins,
-            error,
+            spec,
+            trials: Vec::new(),
+            pinned: true,
+            error: None,
+        }
+    }
+}
+
+/// A cell whose trials are under way.
+struct CellRun {
+    key: CellKey,
+    spec: LoopSpec,
+    trials: Vec<Trial>,
+    pinned: bool,
+    pins: Pins,
+    error: Option<String>,
+}
+
+impl CellRun {
+    fn record(&mut self, run: frame_loop::LoopRun) {
+        self.pins.main_held = run.main_pin.held;
+        self.pins.helper_held = run.helper_pin.map(|p| p.held);
+        self.pinned &= run.main_pin.held && run.helper_pin.is_none_or(|p| p.held);
+        self.trials.push(run.trial);
+    }
+
+    fn finish(self) -> Cell {
+        let failed = self.error.is_some();
+        Cell {
+            workload_iterations: self.spec.workload_iterations,
+            summary: if failed {
+                None
+            } else {
+                Summary::of(&self.trials)
+            },
+            pinned: self.pinned && !failed,
+            pins: self.pins,
+            error: self.error,
+            key: self.key,
         }
     }
 }

@@ -232,3 +232,69 @@ fn help_shows_examples() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("Examples:") && text.contains("oceanbench sweep"));
 }
+
+#[test]
+fn sigterm_keeps_finished_cells_and_prints_the_resume_command() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = write(
+        dir.path(),
+        "long.json",
+        r#"{"name": "long", "sizes": [8, 9, 10, 11, 12, 13, 14, 15], "workloads": [0],
+            "sync": ["atomic"], "trials": 1, "warmup_frames": 0, "min_frames": 1,
+            "min_seconds": 0.15, "workload_levels": [{"micros": 0}]}"#,
+    );
+    let out = dir.path().join("run");
+    let child = Command::new(env!("CARGO_BIN_EXE_oceanbench"))
+        .args(["sweep", &config, "--out", out.to_str().unwrap(), "--quiet"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let json = out.join("results.json");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    while !json.exists() && std::time::Instant::now() < deadline {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert!(
+        json.exists(),
+        "the first row is written as soon as it finishes"
+    );
+    let kill = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("--resume"), "{stderr}");
+    let kept = Results::load(&out).unwrap();
+    assert!(kept.finished.is_none());
+    assert!(!kept.cells.is_empty() && kept.cells.len() < 24);
+    let resumed = oceanbench(&[
+        "sweep",
+        "--resume",
+        out.to_str().unwrap(),
+        "--quiet",
+        "--no-charts",
+    ]);
+    assert!(
+        resumed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
+    let done = Results::load(&out).unwrap();
+    assert_eq!(done.cells.len(), 8 * 3);
+    assert!(done.finished.is_some());
+    assert_eq!(&done.cells[..kept.cells.len()], &kept.cells[..]);
+    // A config that differs from the recorded one is refused.
+    let other = write(
+        dir.path(),
+        "other.json",
+        r#"{"name": "long", "sizes": [8]}"#,
+    );
+    assert_input_error(
+        &["sweep", &other, "--resume", out.to_str().unwrap()],
+        &["differs", "sizes"],
+    );
+}

@@ -24,6 +24,8 @@ fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMetho
         helper_core: if mode == Mode::Dp { cores[1] } else { cores[0] },
         time_step: 1.0 / 60.0,
         timeout: Duration::from_secs(20),
+        stop: None,
+        stall_at_frame: None,
     }
 }
 

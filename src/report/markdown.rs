@@ -29,6 +29,12 @@ fn ratio(a: Option<&Cell>, b: Option<&Cell>) -> String {
 pub fn preamble(results: &Results) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "Machine: {}  ", results.machine.line());
+    if let Some((lo, hi)) = results.round_trip.changed() {
+        let _ = writeln!(
+            out,
+            "**Placement changed mid-run**: cross-core round trip ranged {lo:.0}-{hi:.0} ns  "
+        );
+    }
     if let Some(rt) = &results.round_trip.before {
         let after = results
             .round_trip
