@@ -8,6 +8,7 @@ use crate::report::{self, compare, compare::CompareBy};
 use crate::results::Results;
 use crate::sweep::Sweep;
 use crate::sync::SyncMethod;
+use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{Args, Parser, Subcommand};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -75,6 +76,12 @@ pub enum Command {
         after_help = "Exit status: 0 nothing regressed, 1 something regressed, 2 bad input.\n\nExamples:\n  oceanbench compare results/base results/new --threshold 5 --format markdown\n  oceanbench compare results/sync-primitives-X --by sync --baseline atomic"
     )]
     Compare(CompareArgs),
+    /// Hand-off round trip of every sync method on one core and across two, next to the raw
+    /// cache-line ping-pong (the floor).
+    #[command(
+        after_help = "Example:\n  oceanbench latency --cores 0,1 --samples 20000 --json latency.json"
+    )]
+    Latency(LatencyArgs),
     /// Write one frame of the surface as CSV (i,j,x,y,z,nx,ny,nz).
     #[command(
         after_help = "Example:\n  oceanbench mesh --size 32 --time 10 --waves my-waves.json --out frame.csv"
@@ -200,6 +207,20 @@ pub struct CompareArgs {
     pub format: CompareFormat,
 }
 
+/// Flags of `oceanbench latency`.
+#[derive(Debug, Args)]
+pub struct LatencyArgs {
+    /// The two cores, e.g. `0,1` (default: the first two allowed).
+    #[arg(long, value_delimiter = ',')]
+    pub cores: Option<Vec<usize>>,
+    /// Round trips per row (each row also stops after 2 s).
+    #[arg(long, default_value_t = 20_000)]
+    pub samples: usize,
+    /// Also write the rows as JSON to this file.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+}
+
 /// Flags of `oceanbench mesh`.
 #[derive(Debug, Args)]
 pub struct MeshArgs {
@@ -226,6 +247,47 @@ pub struct MeshArgs {
     pub out: PathBuf,
 }
 
+/// One line for a clap error: what was wrong, and the allowed values when clap knows them.
+pub fn clap_line(err: &clap::Error) -> String {
+    let get = |kind| match err.get(kind) {
+        Some(ContextValue::String(s)) => Some(s.clone()),
+        Some(ContextValue::Strings(v)) => Some(v.join(", ")),
+        _ => None,
+    };
+    let arg = get(ContextKind::InvalidArg).unwrap_or_default();
+    let value = get(ContextKind::InvalidValue).unwrap_or_default();
+    let allowed = get(ContextKind::ValidValue)
+        .map(|v| format!(" (allowed: {v})"))
+        .unwrap_or_default();
+    match err.kind() {
+        ErrorKind::InvalidValue | ErrorKind::ValueValidation if !arg.is_empty() => {
+            let why = err
+                .source_message()
+                .map(|m| format!(": {m}"))
+                .unwrap_or_default();
+            format!("{arg}: invalid value '{value}'{why}{allowed}")
+        }
+        ErrorKind::MissingRequiredArgument if !arg.is_empty() => {
+            format!("missing required arguments: {arg}")
+        }
+        _ => {
+            let first = err.render().to_string();
+            let line = first.lines().next().unwrap_or("invalid arguments");
+            line.trim_start_matches("error: ").to_string()
+        }
+    }
+}
+
+trait SourceMessage {
+    fn source_message(&self) -> Option<String>;
+}
+
+impl SourceMessage for clap::Error {
+    fn source_message(&self) -> Option<String> {
+        std::error::Error::source(self).map(|s| s.to_string())
+    }
+}
+
 /// Runs a parsed command line.
 pub fn execute(cli: Cli) -> Result<(), CliError> {
     match cli.command {
@@ -233,8 +295,37 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
         Command::Sweep(args) => sweep(args),
         Command::Chart(args) => chart_cmd(args),
         Command::Compare(args) => compare_cmd(args),
+        Command::Latency(args) => latency_cmd(args),
         Command::Mesh(args) => mesh(args),
     }
+}
+
+fn latency_cmd(args: LatencyArgs) -> Result<(), CliError> {
+    if !(1..=10_000_000).contains(&args.samples) {
+        return Err(InputError(format!(
+            "--samples: must be 1 to 10000000, got {}",
+            args.samples
+        ))
+        .into());
+    }
+    let two = match &args.cores {
+        Some(c) => c.len() > 1,
+        None => crate::affinity::allowed_cores().len() > 1,
+    };
+    let config = SweepConfig {
+        modes: vec![if two { Mode::Dp } else { Mode::Up }],
+        cores: args.cores,
+        ..SweepConfig::default()
+    };
+    let [a, b] = config.placement()?;
+    let rows = crate::latency::table(a, b, args.samples);
+    print!("{}", crate::latency::to_text(&rows));
+    if let Some(path) = &args.json {
+        let text = serde_json::to_string_pretty(&rows).map_err(anyhow::Error::from)?;
+        report::json::write_atomic(path, text.as_bytes())
+            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    }
+    Ok(())
 }
 
 fn load_results(path: &Path) -> Result<Results, CliError> {

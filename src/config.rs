@@ -4,6 +4,7 @@
 use crate::affinity;
 use crate::frame_loop::{Budget, Mode, Threading};
 use crate::ocean::{mesh, normals, Grid, Kernel, Mesh, NormalMethod, Wave, WaveSet};
+use crate::suggest;
 use crate::sync::SyncMethod;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -183,7 +184,7 @@ fn parse_object<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, InputEr
     }
     serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
-        let msg = e.into_inner().to_string();
+        let msg = suggest::with_suggestion(&e.into_inner().to_string());
         if path == "." || path.is_empty() {
             InputError(msg)
         } else {

@@ -83,3 +83,57 @@ pub fn round_trip(a: usize, b: usize, batches: usize) -> RoundTrip {
         pinned: pin && echo_held,
     }
 }
+
+/// Round trips timed one by one, for percentiles.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TripSamples {
+    /// Nanoseconds of each round trip after the warm-up.
+    pub ns: Vec<f64>,
+    /// Whether both pins held.
+    pub pinned: bool,
+}
+
+/// Times `samples` single round trips between threads pinned to `a` and `b` (the clock read
+/// adds a few tens of nanoseconds to each, as it does to every hand-off timed the same way).
+pub fn round_trip_samples(a: usize, b: usize, samples: usize) -> TripSamples {
+    let line = Arc::new(Line(AtomicU64::new(0)));
+    let warmup = 1000u64;
+    let total = samples as u64 + warmup;
+    let echo = {
+        let line = Arc::clone(&line);
+        std::thread::spawn(move || {
+            let pin = affinity::pin_current(b);
+            for i in 0..total {
+                while line.0.load(Ordering::Acquire) != 2 * i + 1 {
+                    std::hint::spin_loop();
+                }
+                line.0.store(2 * i + 2, Ordering::Release);
+            }
+            pin.held
+        })
+    };
+    let (ns, held) = std::thread::scope(|s| {
+        s.spawn(|| {
+            let pin = affinity::pin_current(a);
+            let mut ns = Vec::with_capacity(samples);
+            for i in 0..total {
+                let t = Instant::now();
+                line.0.store(2 * i + 1, Ordering::Release);
+                while line.0.load(Ordering::Acquire) != 2 * i + 2 {
+                    std::hint::spin_loop();
+                }
+                if i >= warmup {
+                    ns.push(t.elapsed().as_nanos() as f64);
+                }
+            }
+            (ns, pin.held)
+        })
+        .join()
+        .unwrap_or_default()
+    });
+    let echo_held = echo.join().unwrap_or(false);
+    TripSamples {
+        ns,
+        pinned: held && echo_held,
+    }
+}

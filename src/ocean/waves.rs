@@ -199,7 +199,7 @@ impl WaveSet {
             .map(|(index, v)| {
                 Wave::deserialize(v).map_err(|e| WaveError::Parse {
                     index,
-                    message: e.to_string(),
+                    message: crate::suggest::with_suggestion(&e.to_string()),
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;

@@ -1,14 +1,15 @@
 //! `condvar` and `condvar-std`: blocking waits on a condition variable, the paper's "OS-level
 //! synchronisation object".
 
+use super::primitives::{PlCondvar, PlMutex, StdCondvar as StdCv, StdMutex};
 use super::{released_from, Handoff, Released, State, TimedOut};
 use std::time::Instant;
 
 /// parking_lot's mutex and condition variable.
 #[derive(Default)]
 pub struct ParkingLotCondvar {
-    state: parking_lot::Mutex<State>,
-    changed: parking_lot::Condvar,
+    state: PlMutex<State>,
+    changed: PlCondvar,
 }
 
 impl ParkingLotCondvar {
@@ -65,8 +66,8 @@ impl Handoff for ParkingLotCondvar {
 /// `std::sync`'s mutex and condition variable.
 #[derive(Default)]
 pub struct StdCondvar {
-    state: std::sync::Mutex<State>,
-    changed: std::sync::Condvar,
+    state: StdMutex<State>,
+    changed: StdCv,
 }
 
 impl StdCondvar {

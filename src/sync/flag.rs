@@ -1,8 +1,8 @@
 //! `atomic` and `spin`: the state in one atomic byte, waiters polling it.
 
+use super::primitives::{spin_loop, yield_now, AtomicU8, Ordering};
 use super::{released_from, Handoff, Released, State, TimedOut};
 use std::marker::PhantomData;
-use std::sync::atomic::{AtomicU8, Ordering};
 use std::time::Instant;
 
 /// How a polling waiter spends the time between two looks at the state.
@@ -15,7 +15,7 @@ pub trait Relax: Send + Sync + 'static {
 pub struct Yield;
 impl Relax for Yield {
     fn relax() {
-        std::thread::yield_now();
+        yield_now();
     }
 }
 
@@ -23,7 +23,7 @@ impl Relax for Yield {
 pub struct Spin;
 impl Relax for Spin {
     fn relax() {
-        std::hint::spin_loop();
+        spin_loop();
     }
 }
 

@@ -5,6 +5,7 @@
 mod condvar;
 mod flag;
 mod mutex;
+mod primitives;
 mod slot;
 
 pub use slot::Slot;
@@ -59,10 +60,10 @@ impl SyncMethod {
             SyncMethod::Atomic => Box::new(flag::AtomicFlag::<flag::Yield>::default()),
             SyncMethod::Spin => Box::new(flag::AtomicFlag::<flag::Spin>::default()),
             SyncMethod::Mutex => {
-                Box::new(mutex::PolledLock::<parking_lot::Mutex<State>>::default())
+                Box::new(mutex::PolledLock::<primitives::PlMutex<State>>::default())
             }
             SyncMethod::MutexStd => {
-                Box::new(mutex::PolledLock::<std::sync::Mutex<State>>::default())
+                Box::new(mutex::PolledLock::<primitives::StdMutex<State>>::default())
             }
             SyncMethod::Condvar => Box::new(condvar::ParkingLotCondvar::default()),
             SyncMethod::CondvarStd => Box::new(condvar::StdCondvar::default()),

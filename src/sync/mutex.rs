@@ -1,6 +1,7 @@
 //! `mutex` and `mutex-std`: the state inside a critical section, polled with a yield.
 
 use super::flag::{poll, Yield};
+use super::primitives::{PlMutex, StdMutex};
 use super::{released_from, Handoff, Released, State, TimedOut};
 use std::time::Instant;
 
@@ -14,7 +15,7 @@ pub trait StateLock: Default + Send + Sync + 'static {
     fn publish(&self);
 }
 
-impl StateLock for parking_lot::Mutex<State> {
+impl StateLock for PlMutex<State> {
     fn get(&self) -> State {
         *self.lock()
     }
@@ -29,7 +30,7 @@ impl StateLock for parking_lot::Mutex<State> {
     }
 }
 
-impl StateLock for std::sync::Mutex<State> {
+impl StateLock for StdMutex<State> {
     fn get(&self) -> State {
         // A poisoned lock still holds a valid state: the flag is written whole.
         *self.lock().unwrap_or_else(|e| e.into_inner())

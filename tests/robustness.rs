@@ -1,0 +1,101 @@
+//! Random and malformed input never panics: configs, waves files and command lines either parse
+//! or give one line naming what is wrong.
+
+use clap::Parser;
+use oceanbench::cli::{clap_line, Cli};
+use oceanbench::config::SweepConfig;
+use oceanbench::ocean::WaveSet;
+use proptest::prelude::*;
+
+const VALID: &str = r#"{"name": "p", "sizes": [8, 12], "workloads": [0, 1], "modes": ["serial", "up"],
+ "sync": ["atomic"], "threading": ["pool"], "normals": ["analytic"], "kernel": ["reference"],
+ "trials": 2, "min_frames": 5, "min_seconds": 0.1, "max_seconds": 1.0,
+ "workload_levels": [{"micros": 0}, {"step_fraction": 0.5, "size": 40}],
+ "waves": [{"amplitude": 1, "wavelength": 10, "speed": 2, "direction": [1, 0], "steepness": 2}]}"#;
+
+fn one_line(e: &str) {
+    assert!(!e.is_empty() && !e.contains('\n'), "{e:?}");
+}
+
+/// Replacement values that are wrong in type or range for most fields.
+fn junk() -> impl Strategy<Value = String> {
+    prop_oneof![
+        Just("-1".to_string()),
+        Just("0".to_string()),
+        Just("1e308".to_string()),
+        Just("null".to_string()),
+        Just("\"\"".to_string()),
+        Just("[]".to_string()),
+        Just("{}".to_string()),
+        Just("[\"tri\"]".to_string()),
+        Just("[-3]".to_string()),
+        Just("[99999]".to_string()),
+        Just("true".to_string()),
+        any::<i64>().prop_map(|v| v.to_string()),
+        any::<f64>().prop_map(|v| format!("{v:?}")),
+        "[a-z]{0,8}".prop_map(|s| format!("\"{s}\"")),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(400))]
+
+    #[test]
+    fn arbitrary_text_never_panics(text in ".{0,200}") {
+        if let Err(e) = SweepConfig::from_json(&text) {
+            one_line(&e.to_string());
+        }
+        if let Err(e) = WaveSet::from_json(&text) {
+            one_line(&e.to_string());
+        }
+    }
+
+    #[test]
+    fn truncated_configs_never_panic(cut in 0usize..VALID.len()) {
+        let text = &VALID[..cut];
+        let e = SweepConfig::from_json(text).expect_err("a truncated config is invalid");
+        one_line(&e.to_string());
+    }
+
+    #[test]
+    fn one_field_replaced_by_junk_gives_one_line_or_a_valid_config(
+        field in prop::sample::select(vec![
+            "sizes", "workloads", "modes", "sync", "threading", "normals", "kernel", "trials",
+            "min_frames", "min_seconds", "max_seconds", "workload_levels", "waves", "name",
+            "spacing", "time_step", "timeout_seconds", "cores", "warmup_frames", "sizez",
+        ]),
+        value in junk(),
+    ) {
+        let mut obj: serde_json::Map<String, serde_json::Value> =
+            serde_json::from_str(VALID).unwrap();
+        let parsed: Result<serde_json::Value, _> = serde_json::from_str(&value);
+        prop_assume!(parsed.is_ok());
+        obj.insert(field.to_string(), parsed.unwrap());
+        let text = serde_json::to_string(&obj).unwrap();
+        match SweepConfig::from_json(&text) {
+            Ok(config) => prop_assert!(config.validate().is_ok()),
+            Err(e) => {
+                let msg = e.to_string();
+                one_line(&msg);
+                prop_assert!(msg.contains(field) || msg.contains("waves") || msg.contains("config"),
+                    "{field}: {msg}");
+            }
+        }
+    }
+
+    #[test]
+    fn random_command_lines_never_panic(
+        words in prop::collection::vec(prop::sample::select(vec![
+            "run", "sweep", "mesh", "chart", "compare", "latency", "--size", "--mode", "--sync",
+            "--normals", "--kernel", "--workload", "--cores", "--frames", "--seconds", "--trials",
+            "--out", "--by", "--baseline", "--threshold", "--format", "--time", "up", "dp",
+            "spin", "0", "-1", "1,2,3", "x", "", "--", "--help-me", "1e9", "nan",
+        ]), 0..8),
+    ) {
+        let mut argv = vec!["oceanbench"];
+        argv.extend(words.iter().copied());
+        if let Err(err) = Cli::try_parse_from(&argv) {
+            one_line(&clap_line(&err));
+        }
+    }
+}
