@@ -36,6 +36,14 @@ pub fn preamble(results: &Results) -> String {
         );
     }
     if let Some(rt) = &results.round_trip.before {
+        let during: Vec<f64> = results.round_trip.during.iter().map(|r| r.median_ns).collect();
+        let during = if during.is_empty() {
+            String::new()
+        } else {
+            let lo = during.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = during.iter().copied().fold(0.0, f64::max);
+            format!(", during {lo:.0}-{hi:.0} ns")
+        };
         let after = results
             .round_trip
             .after
@@ -43,7 +51,7 @@ pub fn preamble(results: &Results) -> String {
             .map_or(String::new(), |a| format!(", after {:.0} ns", a.median_ns));
         let _ = writeln!(
             out,
-            "Cross-core round trip (cores {},{}): before {:.0} ns{after}  ",
+            "Cross-core round trip (cores {},{}): before {:.0} ns{during}{after}  ",
             rt.cores[0], rt.cores[1], rt.median_ns
         );
     }
