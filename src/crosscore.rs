@@ -30,11 +30,11 @@ pub struct RoundTrip {
     pub pinned: bool,
 }
 
-/// Measures `batches` batches of round trips between threads pinned to `a` and `b`.
-pub fn round_trip(a: usize, b: usize, batches: usize) -> RoundTrip {
+/// Bounces a cache line `total` times between a thread pinned to `a` (which starts each trip)
+/// and one pinned to `b`; `after_trip(i)` runs on `a`'s thread after trip `i` completes.
+/// Returns whether both pins held.
+fn bounce(a: usize, b: usize, total: u64, mut after_trip: impl FnMut(u64) + Send) -> bool {
     let line = Arc::new(Line(AtomicU64::new(0)));
-    let batches = batches.max(1);
-    let total = (batches as u64 + 1) * BATCH;
     let echo = {
         let line = Arc::clone(&line);
         std::thread::spawn(move || {
@@ -48,30 +48,39 @@ pub fn round_trip(a: usize, b: usize, batches: usize) -> RoundTrip {
             pin.held
         })
     };
-    let mut per_trip = Vec::with_capacity(batches);
-    let pin = std::thread::scope(|s| {
+    let held = std::thread::scope(|s| {
         s.spawn(|| {
             let pin = affinity::pin_current(a);
-            let mut start = Instant::now();
             for i in 0..total {
                 line.0.store(2 * i + 1, Ordering::Release);
                 while line.0.load(Ordering::Acquire) != 2 * i + 2 {
                     std::hint::spin_loop();
                 }
-                if (i + 1).is_multiple_of(BATCH) {
-                    // The first batch is a warm-up and is not kept.
-                    if i + 1 > BATCH {
-                        per_trip.push(start.elapsed().as_nanos() as f64 / BATCH as f64);
-                    }
-                    start = Instant::now();
-                }
+                after_trip(i);
             }
             pin.held
         })
         .join()
         .unwrap_or(false)
     });
-    let echo_held = echo.join().unwrap_or(false);
+    held && echo.join().unwrap_or(false)
+}
+
+/// Measures `batches` batches of round trips between threads pinned to `a` and `b`.
+pub fn round_trip(a: usize, b: usize, batches: usize) -> RoundTrip {
+    let batches = batches.max(1);
+    let total = (batches as u64 + 1) * BATCH;
+    let mut per_trip = Vec::with_capacity(batches);
+    let mut start = Instant::now();
+    let pinned = bounce(a, b, total, |i| {
+        if (i + 1).is_multiple_of(BATCH) {
+            // The first batch is a warm-up and is not kept.
+            if i + 1 > BATCH {
+                per_trip.push(start.elapsed().as_nanos() as f64 / BATCH as f64);
+            }
+            start = Instant::now();
+        }
+    });
     per_trip.sort_by(f64::total_cmp);
     let pct = |p: f64| per_trip[((per_trip.len() - 1) as f64 * p).round() as usize];
     RoundTrip {
@@ -80,7 +89,7 @@ pub fn round_trip(a: usize, b: usize, batches: usize) -> RoundTrip {
         p99_ns: pct(0.99),
         min_ns: per_trip[0],
         batches: per_trip.len(),
-        pinned: pin && echo_held,
+        pinned,
     }
 }
 
@@ -93,47 +102,18 @@ pub struct TripSamples {
     pub pinned: bool,
 }
 
-/// Times `samples` single round trips between threads pinned to `a` and `b` (the clock read
+/// Times `samples` single round trips between threads pinned to `a` and `b` (reading the clock
 /// adds a few tens of nanoseconds to each, as it does to every hand-off timed the same way).
 pub fn round_trip_samples(a: usize, b: usize, samples: usize) -> TripSamples {
-    let line = Arc::new(Line(AtomicU64::new(0)));
     let warmup = 1000u64;
-    let total = samples as u64 + warmup;
-    let echo = {
-        let line = Arc::clone(&line);
-        std::thread::spawn(move || {
-            let pin = affinity::pin_current(b);
-            for i in 0..total {
-                while line.0.load(Ordering::Acquire) != 2 * i + 1 {
-                    std::hint::spin_loop();
-                }
-                line.0.store(2 * i + 2, Ordering::Release);
-            }
-            pin.held
-        })
-    };
-    let (ns, held) = std::thread::scope(|s| {
-        s.spawn(|| {
-            let pin = affinity::pin_current(a);
-            let mut ns = Vec::with_capacity(samples);
-            for i in 0..total {
-                let t = Instant::now();
-                line.0.store(2 * i + 1, Ordering::Release);
-                while line.0.load(Ordering::Acquire) != 2 * i + 2 {
-                    std::hint::spin_loop();
-                }
-                if i >= warmup {
-                    ns.push(t.elapsed().as_nanos() as f64);
-                }
-            }
-            (ns, pin.held)
-        })
-        .join()
-        .unwrap_or_default()
+    let mut ns = Vec::with_capacity(samples);
+    let mut last = Instant::now();
+    let pinned = bounce(a, b, samples as u64 + warmup, |i| {
+        let now = Instant::now();
+        if i >= warmup {
+            ns.push((now - last).as_nanos() as f64);
+        }
+        last = now;
     });
-    let echo_held = echo.join().unwrap_or(false);
-    TripSamples {
-        ns,
-        pinned: held && echo_held,
-    }
+    TripSamples { ns, pinned }
 }

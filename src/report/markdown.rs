@@ -36,7 +36,12 @@ pub fn preamble(results: &Results) -> String {
         );
     }
     if let Some(rt) = &results.round_trip.before {
-        let during: Vec<f64> = results.round_trip.during.iter().map(|r| r.median_ns).collect();
+        let during: Vec<f64> = results
+            .round_trip
+            .during
+            .iter()
+            .map(|r| r.median_ns)
+            .collect();
         let during = if during.is_empty() {
             String::new()
         } else {

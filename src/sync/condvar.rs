@@ -5,24 +5,62 @@ use super::primitives::{PlCondvar, PlMutex, StdCondvar as StdCv, StdMutex};
 use super::{released_from, Handoff, Released, State, TimedOut};
 use std::time::Instant;
 
+/// A mutex-protected state with a condition variable signalled on every change.
+pub trait CondState: Default + Send + Sync + 'static {
+    /// Sets the state and wakes the waiters.
+    fn set(&self, state: State);
+    /// Moves Empty → Full and wakes the waiters; a shutdown that arrived meanwhile survives.
+    fn publish(&self);
+    /// Blocks until `done` accepts the state, or the deadline passes.
+    fn wait_for<T>(
+        &self,
+        deadline: Instant,
+        done: impl Fn(State) -> Option<T>,
+    ) -> Result<T, TimedOut>;
+}
+
+/// The blocking hand-off over either library's mutex and condition variable.
+#[derive(Default)]
+pub struct Blocking<C: CondState> {
+    state: C,
+}
+
+impl<C: CondState> Handoff for Blocking<C> {
+    fn publish(&self) {
+        self.state.publish();
+    }
+    fn wait_published(&self, deadline: Instant) -> Result<(), TimedOut> {
+        self.state
+            .wait_for(deadline, |s| (s == State::Full).then_some(()))
+    }
+    fn release(&self) {
+        self.state.set(State::Empty);
+    }
+    fn wait_released(&self, deadline: Instant) -> Result<Released, TimedOut> {
+        self.state.wait_for(deadline, released_from)
+    }
+    fn shutdown(&self) {
+        self.state.set(State::Shutdown);
+    }
+}
+
 /// parking_lot's mutex and condition variable.
 #[derive(Default)]
-pub struct ParkingLotCondvar {
+pub struct ParkingLot {
     state: PlMutex<State>,
     changed: PlCondvar,
 }
 
-impl ParkingLotCondvar {
+impl CondState for ParkingLot {
     fn set(&self, state: State) {
         *self.state.lock() = state;
         self.changed.notify_all();
     }
 
-    /// Empty → Full only, so a shutdown that arrived meanwhile survives.
-    fn set_if_empty(&self, state: State) {
+    fn publish(&self) {
         let mut s = self.state.lock();
         if *s == State::Empty {
-            *s = state;
+            *s = State::Full;
             drop(s);
             self.changed.notify_all();
         }
@@ -45,42 +83,23 @@ impl ParkingLotCondvar {
     }
 }
 
-impl Handoff for ParkingLotCondvar {
-    fn publish(&self) {
-        self.set_if_empty(State::Full);
-    }
-    fn wait_published(&self, deadline: Instant) -> Result<(), TimedOut> {
-        self.wait_for(deadline, |s| (s == State::Full).then_some(()))
-    }
-    fn release(&self) {
-        self.set(State::Empty);
-    }
-    fn wait_released(&self, deadline: Instant) -> Result<Released, TimedOut> {
-        self.wait_for(deadline, released_from)
-    }
-    fn shutdown(&self) {
-        self.set(State::Shutdown);
-    }
-}
-
 /// `std::sync`'s mutex and condition variable.
 #[derive(Default)]
-pub struct StdCondvar {
+pub struct Std {
     state: StdMutex<State>,
     changed: StdCv,
 }
 
-impl StdCondvar {
+impl CondState for Std {
     fn set(&self, state: State) {
         *self.state.lock().unwrap_or_else(|e| e.into_inner()) = state;
         self.changed.notify_all();
     }
 
-    /// Empty → Full only, so a shutdown that arrived meanwhile survives.
-    fn set_if_empty(&self, state: State) {
+    fn publish(&self) {
         let mut s = self.state.lock().unwrap_or_else(|e| e.into_inner());
         if *s == State::Empty {
-            *s = state;
+            *s = State::Full;
             drop(s);
             self.changed.notify_all();
         }
@@ -106,23 +125,5 @@ impl StdCondvar {
                 .unwrap_or_else(|e| e.into_inner())
                 .0;
         }
-    }
-}
-
-impl Handoff for StdCondvar {
-    fn publish(&self) {
-        self.set_if_empty(State::Full);
-    }
-    fn wait_published(&self, deadline: Instant) -> Result<(), TimedOut> {
-        self.wait_for(deadline, |s| (s == State::Full).then_some(()))
-    }
-    fn release(&self) {
-        self.set(State::Empty);
-    }
-    fn wait_released(&self, deadline: Instant) -> Result<Released, TimedOut> {
-        self.wait_for(deadline, released_from)
-    }
-    fn shutdown(&self) {
-        self.set(State::Shutdown);
     }
 }

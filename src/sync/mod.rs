@@ -65,8 +65,8 @@ impl SyncMethod {
             SyncMethod::MutexStd => {
                 Box::new(mutex::PolledLock::<primitives::StdMutex<State>>::default())
             }
-            SyncMethod::Condvar => Box::new(condvar::ParkingLotCondvar::default()),
-            SyncMethod::CondvarStd => Box::new(condvar::StdCondvar::default()),
+            SyncMethod::Condvar => Box::new(condvar::Blocking::<condvar::ParkingLot>::default()),
+            SyncMethod::CondvarStd => Box::new(condvar::Blocking::<condvar::Std>::default()),
         }
     }
 }
