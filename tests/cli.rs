@@ -298,3 +298,89 @@ fn sigterm_keeps_finished_cells_and_prints_the_resume_command() {
         &["differs", "sizes"],
     );
 }
+
+#[test]
+fn latency_lists_the_floor_and_every_method_on_each_placement() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("latency.json");
+    let out = oceanbench(&[
+        "latency",
+        "--samples",
+        "40",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    let rows: Vec<serde_json::Value> =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let two_cores = oceanbench::affinity::allowed_cores().len() > 1;
+    assert_eq!(rows.len(), if two_cores { 13 } else { 6 });
+    for method in [
+        "atomic",
+        "spin",
+        "mutex",
+        "condvar",
+        "mutex-std",
+        "condvar-std",
+    ] {
+        let n = rows.iter().filter(|r| r["method"] == method).count();
+        assert_eq!(n, if two_cores { 2 } else { 1 }, "{method}");
+        assert!(text.contains(method));
+    }
+    if two_cores {
+        assert!(text.contains("ping-pong"));
+    }
+    for r in &rows {
+        let (median, p99) = (
+            r["median_ns"].as_f64().unwrap(),
+            r["p99_ns"].as_f64().unwrap(),
+        );
+        assert!(median > 0.0 && p99 >= median, "{r}");
+        assert!(r["samples"].as_u64().unwrap() > 0);
+    }
+    assert_input_error(&["latency", "--samples", "0"], &["--samples"]);
+}
+
+#[test]
+fn compare_exits_0_unchanged_1_regressed_2_bad_input() {
+    let fixture = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json");
+    let fixture = fixture.to_str().unwrap();
+    let same = oceanbench(&["compare", fixture, fixture, "--format", "markdown"]);
+    assert_eq!(same.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&same.stdout).contains("0 regressed"));
+    let dir = tempfile::tempdir().unwrap();
+    let mut slower = Results::load(Path::new(fixture)).unwrap();
+    let cell = slower
+        .cells
+        .iter_mut()
+        .find(|c| c.summary.is_some())
+        .unwrap();
+    let label = cell.key.label();
+    let s = cell.summary.as_mut().unwrap();
+    s.fps /= 2.0;
+    s.fps_trials.iter_mut().for_each(|f| *f /= 2.0);
+    let path = dir.path().join("slower.json");
+    std::fs::write(&path, serde_json::to_string(&slower).unwrap()).unwrap();
+    let out = oceanbench(&["compare", fixture, path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stdout).contains(&label));
+    assert_input_error(
+        &["compare", fixture, "/nonexistent.json"],
+        &["/nonexistent.json"],
+    );
+    assert_input_error(
+        &["compare", fixture, fixture, "--threshold=-3"],
+        &["--threshold"],
+    );
+    assert_input_error(&["compare", fixture], &["--by"]);
+    let notes = write(dir.path(), "notes.json", r#"{"hello": 1}"#);
+    assert_input_error(
+        &["compare", &notes, fixture],
+        &["not an oceanbench results file"],
+    );
+}
