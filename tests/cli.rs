@@ -384,3 +384,35 @@ fn compare_exits_0_unchanged_1_regressed_2_bad_input() {
         &["not an oceanbench results file"],
     );
 }
+
+#[test]
+fn chart_redraws_from_a_results_file_and_refuses_bad_paths() {
+    let dir = tempfile::tempdir().unwrap();
+    let fixture = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json");
+    let out = oceanbench(&[
+        "chart",
+        fixture.to_str().unwrap(),
+        "--out",
+        dir.path().to_str().unwrap(),
+        "--format",
+        "svg",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for name in ["figure-5-1", "relative", "sync", "frame-times", "breakdown"] {
+        assert!(dir.path().join(format!("{name}.svg")).exists(), "{name}");
+    }
+    assert_input_error(
+        &["chart", "/nonexistent/results"],
+        &["/nonexistent/results"],
+    );
+    let notes = write(dir.path(), "notes.json", "[1, 2, 3]");
+    assert_input_error(&["chart", &notes], &["not an oceanbench results file"]);
+    assert_input_error(
+        &["chart", fixture.to_str().unwrap(), "--format", "gif"],
+        &["png, svg"],
+    );
+}
