@@ -202,23 +202,26 @@ impl SweepConfig {
         Ok(config)
     }
 
-    /// Reads and validates a config file; `name` defaults to the file's stem.
+    /// Reads and validates a config file; `name` defaults to the file's stem, and a relative
+    /// `waves_file` is found next to the config.
     pub fn load(path: &Path) -> Result<Self, InputError> {
         let text = std::fs::read_to_string(path)
             .map_err(|e| InputError(format!("config {}: {e}", path.display())))?;
-        let mut config = Self::from_json(&text).map_err(|e| {
-            InputError(format!(
-                "{}: {}",
-                path.display(),
-                e.0.trim_start_matches("config: ")
-            ))
-        })?;
-        let has_name = text.contains("\"name\"");
-        if !has_name {
+        let in_file = |e: InputError| InputError(format!("{}: {e}", path.display()));
+        let mut config: SweepConfig = parse_object(&text).map_err(in_file)?;
+        if let (Some(file), Some(dir)) = (&config.waves_file, path.parent()) {
+            if file.is_relative() {
+                config.waves_file = Some(dir.join(file));
+            }
+        }
+        let named = serde_json::from_str::<serde_json::Value>(&text)
+            .is_ok_and(|v| v.get("name").is_some());
+        if !named {
             if let Some(stem) = path.file_stem() {
                 config.name = stem.to_string_lossy().into_owned();
             }
         }
+        config.validate().map_err(in_file)?;
         Ok(config)
     }
 
