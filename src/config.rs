@@ -214,8 +214,8 @@ impl SweepConfig {
                 config.waves_file = Some(dir.join(file));
             }
         }
-        let named = serde_json::from_str::<serde_json::Value>(&text)
-            .is_ok_and(|v| v.get("name").is_some());
+        let named =
+            serde_json::from_str::<serde_json::Value>(&text).is_ok_and(|v| v.get("name").is_some());
         if !named {
             if let Some(stem) = path.file_stem() {
                 config.name = stem.to_string_lossy().into_owned();

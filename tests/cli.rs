@@ -220,7 +220,12 @@ fn shipped_configs_are_valid_and_figure_5_1_is_the_default() {
         },
         default
     );
-    for name in ["quick.json", "sync-primitives.json"] {
+    for name in [
+        "quick.json",
+        "sync-primitives.json",
+        "ci.json",
+        "figure-5-1-fast.json",
+    ] {
         SweepConfig::load(&root.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
     }
 }
