@@ -112,7 +112,10 @@ impl Mesh {
     /// A band of whole rows: their positions to read and their heights and normals to write.
     pub fn rows_mut(&mut self, rows: std::ops::Range<usize>) -> MeshRows<'_> {
         let n = self.grid.n;
-        assert!(rows.start <= rows.end && rows.end <= n, "rows {rows:?} outside 0..{n}");
+        assert!(
+            rows.start <= rows.end && rows.end <= n,
+            "rows {rows:?} outside 0..{n}"
+        );
         let span = rows.start * n..rows.end * n;
         MeshRows {
             grid: self.grid,
