@@ -116,6 +116,10 @@ pub struct RunArgs {
     /// Kernel.
     #[arg(long, value_enum, default_value = "reference")]
     pub kernel: Kernel,
+    /// Helper threads the mesh's rows are split among (more than 1 needs threading `pool` and
+    /// normals `analytic`).
+    #[arg(long, default_value_t = 1)]
+    pub helpers: usize,
     /// Waves file (JSON); default: the built-in deep-ocean set.
     #[arg(long)]
     pub waves: Option<PathBuf>,
@@ -409,6 +413,7 @@ fn run(args: RunArgs) -> Result<(), CliError> {
         threading: vec![args.threading],
         normals: vec![args.normals],
         kernel: vec![args.kernel],
+        helpers: vec![args.helpers],
         trials: args.trials,
         min_frames: args.frames,
         min_seconds: args.seconds,

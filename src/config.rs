@@ -2,7 +2,7 @@
 //! defaults that reproduce Figure 5-1 and validation that names the field and what is allowed.
 
 use crate::affinity;
-use crate::frame_loop::{Budget, Mode, Threading};
+use crate::frame_loop::{check_helpers, Budget, Mode, Threading};
 use crate::ocean::{mesh, normals, Grid, Kernel, Mesh, NormalMethod, Wave, WaveSet};
 use crate::suggest;
 use crate::sync::SyncMethod;
@@ -101,6 +101,9 @@ pub struct SweepConfig {
     pub normals: Vec<NormalMethod>,
     /// Kernels.
     pub kernel: Vec<Kernel>,
+    /// Helper counts the mesh's rows are split among (threaded modes; more than 1 needs
+    /// threading `pool` and normals `analytic`).
+    pub helpers: Vec<usize>,
     /// Trials per cell.
     pub trials: u32,
     /// Frames thrown away before each trial.
@@ -145,6 +148,7 @@ impl Default for SweepConfig {
             threading: vec![Threading::Pool],
             normals: vec![NormalMethod::Neighbors],
             kernel: vec![Kernel::Reference],
+            helpers: vec![1],
             trials: 5,
             warmup_frames: 20,
             min_frames: 60,
@@ -324,6 +328,7 @@ impl SweepConfig {
         non_empty("threading", &self.threading)?;
         non_empty("normals", &self.normals)?;
         non_empty("kernel", &self.kernel)?;
+        non_empty("helpers", &self.helpers)?;
         non_empty("workload_levels", &self.workload_levels)?;
         no_repeats("sizes", &self.sizes)?;
         no_repeats("workloads", &self.workloads)?;
@@ -332,6 +337,8 @@ impl SweepConfig {
         no_repeats("threading", &self.threading)?;
         no_repeats("normals", &self.normals)?;
         no_repeats("kernel", &self.kernel)?;
+        no_repeats("helpers", &self.helpers)?;
+        self.check_helpers()?;
         if !(self.spacing.is_finite() && self.spacing > 0.0) {
             return Err(InputError(format!(
                 "spacing: must be a finite number > 0, got {}",
@@ -410,6 +417,25 @@ impl SweepConfig {
         }
         self.wave_set()?;
         self.placement()?;
+        Ok(())
+    }
+}
+
+impl SweepConfig {
+    /// Every listed helper count must run with every listed threading, normals and size of the
+    /// threaded modes (the lists are crossed, so one bad pair would fail cells mid-sweep).
+    fn check_helpers(&self) -> Result<(), InputError> {
+        for &mode in self.modes.iter().filter(|&&m| m != Mode::Serial) {
+            for &helpers in &self.helpers {
+                for &threading in &self.threading {
+                    for &normals in &self.normals {
+                        for &size in &self.sizes {
+                            check_helpers(helpers, mode, threading, normals, size)?;
+                        }
+                    }
+                }
+            }
+        }
         Ok(())
     }
 }

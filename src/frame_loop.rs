@@ -1,12 +1,17 @@
 //! The game loops: `serial` (one thread does workload, mesh and copy) and threaded (a helper
 //! computes frame k's mesh while the main thread runs frame k's workload, then hands it over).
+//! With `helpers` > 1 the mesh's rows are split into bands, one persistent helper per band, each
+//! with its own hand-off: the paper's future work, "do a portion of the grid on one thread, a
+//! portion on another".
 
 use crate::affinity::{self, Pin};
 use crate::measure::{FrameRecord, Trial};
-use crate::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
+use crate::ocean::{Grid, Kernel, Mesh, MeshRows, NormalMethod, Ocean, WaveSet};
 use crate::sync::{Handoff, Released, Slot, SyncMethod};
 use crate::workload;
 use serde::{Deserialize, Serialize};
+use std::cell::UnsafeCell;
+use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -85,6 +90,10 @@ pub struct LoopSpec {
     pub main_core: usize,
     /// Core of the helper (equal to `main_core` in `up`).
     pub helper_core: usize,
+    /// Helper threads the mesh's rows are split among (1: the paper's single helper).
+    pub helpers: usize,
+    /// Helper k runs on `helper_cores[k % len]`; empty puts every helper on `helper_core`.
+    pub helper_cores: Vec<usize>,
     /// Simulated seconds per frame: frame k's mesh is the surface at t = k · time_step.
     pub time_step: f64,
     /// How long a hand-off wait may take before the cell is aborted.
@@ -96,11 +105,78 @@ pub struct LoopSpec {
 }
 
 impl LoopSpec {
+    /// The core helper `k` is pinned to.
+    pub fn helper_core_of(&self, k: usize) -> usize {
+        match self.helper_cores.len() {
+            0 => self.helper_core,
+            len => self.helper_cores[k % len],
+        }
+    }
+
+    /// Checks what `helpers` > 1 needs: a persistent pool, analytic normals, a band per helper.
+    pub fn check_helpers(&self) -> Result<(), String> {
+        check_helpers(
+            self.helpers,
+            self.mode,
+            self.threading,
+            self.normals,
+            self.grid.n,
+        )
+    }
+
     fn stopped(&self) -> bool {
         self.stop
             .as_ref()
             .is_some_and(|s| s.load(Ordering::Relaxed))
     }
+}
+
+/// Most helpers a loop may split the mesh among.
+pub const MAX_HELPERS: usize = 64;
+
+/// Refuses a helper count the loops cannot run, naming why; shared by configs, flags and
+/// `run` so every entry point gives the same message.
+pub fn check_helpers(
+    helpers: usize,
+    mode: Mode,
+    threading: Threading,
+    normals: NormalMethod,
+    size: usize,
+) -> Result<(), String> {
+    if !(1..=MAX_HELPERS).contains(&helpers) {
+        return Err(format!(
+            "helpers: must be 1 to {MAX_HELPERS}, got {helpers}"
+        ));
+    }
+    if helpers == 1 || mode == Mode::Serial {
+        return Ok(());
+    }
+    if threading == Threading::Spawn {
+        return Err(format!(
+            "helpers: {helpers} helpers need threading `pool`; `spawn` starts one thread per \
+             frame and is kept as the paper's single-helper first build"
+        ));
+    }
+    if helpers > size {
+        return Err(format!(
+            "helpers: {helpers} helpers need at least one row each; size {size} has {size} rows"
+        ));
+    }
+    Ocean::splits_into_rows(normals)
+}
+
+/// Helper cores cycling through the allowed cores from `first` on (wrapping past the main
+/// core): in dp with the defaults on two cores, helper 0 gets core 1 and helper 1 core 0.
+pub fn cycle_cores(first: usize, helpers: usize) -> Vec<usize> {
+    let allowed = affinity::allowed_cores();
+    let start = allowed.iter().position(|&c| c == first).unwrap_or(0);
+    allowed
+        .iter()
+        .cycle()
+        .skip(start)
+        .take(helpers)
+        .copied()
+        .collect()
 }
 
 /// When a trial stops.
@@ -166,15 +242,121 @@ pub struct LoopRun {
     pub trial: Trial,
     /// Main thread's pin.
     pub main_pin: Pin,
-    /// Helper's pin (every per-frame thread held in `spawn`); `None` in `serial`.
+    /// Helper's pin (every per-frame thread held in `spawn`, every helper held with several
+    /// helpers; the core is helper 0's); `None` in `serial`.
     pub helper_pin: Option<Pin>,
+    /// Every helper's pin, helper k at index k (empty in `serial`).
+    pub helper_pins: Vec<Pin>,
 }
 
-/// One frame as the helper leaves it in the slot.
-struct Frame {
+/// What a helper leaves next to its band: which frame the band holds and how long it took.
+#[derive(Default)]
+struct Stamp {
     index: u64,
     step_ns: u64,
-    mesh: Mesh,
+}
+
+/// One helper's share of the frame: its rows, its hand-off and its stamp.
+struct Part {
+    rows: Range<usize>,
+    handoff: Box<dyn Handoff>,
+    stamp: Slot<Stamp>,
+}
+
+/// The one-frame slot: a mesh the helpers write band by band and the main thread copies whole,
+/// with one hand-off per helper (so every sync method works unchanged for any helper count).
+struct Shared {
+    mesh: UnsafeCell<Mesh>,
+    /// Base pointers of z, nx, ny, nz (and x, y), taken once while the mesh was uniquely owned,
+    /// so helpers can make disjoint band slices without ever forming a `&mut Mesh` at once.
+    base: [*mut f32; 6],
+    parts: Vec<Part>,
+}
+
+// SAFETY: the mesh and stamps are only touched under the hand-off protocol: helper k writes its
+// own rows (disjoint from every other helper's) and its stamp while its hand-off is Empty, the
+// main thread reads them only after every hand-off is Full; each pair of sides is a
+// release/acquire edge. The raw pointers point into the mesh's buffers, which are never resized.
+unsafe impl Sync for Shared {}
+// SAFETY: as above; the pointers are owned data of `mesh`, which moves with them.
+unsafe impl Send for Shared {}
+
+impl Shared {
+    /// A slot for `spec`'s grid split evenly into `spec.helpers` bands of whole rows.
+    fn new(spec: &LoopSpec) -> Shared {
+        let mut mesh = Mesh::new(spec.grid);
+        let base = [
+            mesh.x.as_mut_ptr(),
+            mesh.y.as_mut_ptr(),
+            mesh.z.as_mut_ptr(),
+            mesh.nx.as_mut_ptr(),
+            mesh.ny.as_mut_ptr(),
+            mesh.nz.as_mut_ptr(),
+        ];
+        let (n, h) = (spec.grid.n, spec.helpers.max(1));
+        let parts = (0..h)
+            .map(|k| Part {
+                rows: k * n / h..(k + 1) * n / h,
+                handoff: spec.sync.handoff(),
+                stamp: Slot::new(Stamp::default()),
+            })
+            .collect();
+        Shared {
+            mesh: UnsafeCell::new(mesh),
+            base,
+            parts,
+        }
+    }
+
+    /// Helper k's band of the mesh.
+    ///
+    /// # Safety
+    /// The caller is helper k and owns its part (its hand-off is Empty), and it is one of
+    /// several helpers (a lone helper uses `whole`), so only disjoint bands are alive.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn band(&self, k: usize) -> MeshRows<'_> {
+        let grid = self.mesh_grid();
+        let rows = self.parts[k].rows.clone();
+        let (start, len) = (rows.start * grid.n, rows.len() * grid.n);
+        // SAFETY: `start + len` is within the mesh's N² elements; x and y are never written,
+        // and z..nz rows of different helpers do not overlap (bands partition the rows).
+        unsafe {
+            let read = |p: *mut f32| std::slice::from_raw_parts(p.add(start), len);
+            let write = |p: *mut f32| std::slice::from_raw_parts_mut(p.add(start), len);
+            MeshRows {
+                grid,
+                first_row: rows.start,
+                x: read(self.base[0]),
+                y: read(self.base[1]),
+                z: write(self.base[2]),
+                nx: write(self.base[3]),
+                ny: write(self.base[4]),
+                nz: write(self.base[5]),
+            }
+        }
+    }
+
+    /// The whole mesh, for a lone helper (face normals need every row).
+    ///
+    /// # Safety
+    /// The caller is the only helper and owns the slot (its hand-off is Empty).
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn whole(&self) -> &mut Mesh {
+        unsafe { &mut *self.mesh.get() }
+    }
+
+    /// The finished mesh.
+    ///
+    /// # Safety
+    /// The caller is the main thread, every part is published and none released yet.
+    unsafe fn finished(&self) -> &Mesh {
+        unsafe { &*self.mesh.get() }
+    }
+
+    fn mesh_grid(&self) -> Grid {
+        // SAFETY: `grid` is never written after construction, so reading it races with nothing.
+        unsafe { (*self.mesh.get()).grid }
+    }
 }
 
 fn time_of(spec: &LoopSpec, frame: u64) -> f32 {
@@ -191,6 +373,7 @@ pub fn run<F>(spec: &LoopSpec, budget: &Budget, observe: F) -> Result<LoopRun, L
 where
     F: FnMut(u64, &Mesh) + Send,
 {
+    spec.check_helpers().map_err(LoopError::Spec)?;
     let ocean = Ocean::new(spec.grid, spec.waves.clone(), spec.normals, spec.kernel)
         .map_err(LoopError::Spec)?;
     std::thread::scope(|s| {
@@ -282,32 +465,46 @@ fn serial<F: FnMut(u64, &Mesh)>(
         trial: clock.trial(),
         main_pin,
         helper_pin: None,
+        helper_pins: Vec::new(),
     })
 }
 
-/// The main thread's side of one threaded frame: workload, wait, copy, release.
+/// The main thread's side of one threaded frame: workload, wait for every helper, copy,
+/// release them all.
 fn consume<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     k: u64,
-    handoff: &dyn Handoff,
-    slot: &Slot<Frame>,
+    shared: &Shared,
     render: &mut Mesh,
     observe: &mut F,
 ) -> Result<FrameRecord, LoopError> {
     let t0 = Instant::now();
     workload::run(spec.workload_iterations, k);
     let t1 = Instant::now();
-    handoff
-        .wait_published(t1 + spec.timeout)
-        .map_err(|_| stalled(spec, "the main thread (waiting for the mesh)"))?;
+    for part in &shared.parts {
+        part.handoff
+            .wait_published(t1 + spec.timeout)
+            .map_err(|_| stalled(spec, "the main thread (waiting for the mesh)"))?;
+    }
     let t2 = Instant::now();
-    // SAFETY: the mesh is published and not yet released, so the helper is not writing.
-    let frame = unsafe { slot.get() };
-    render.copy_from(&frame.mesh);
-    let (index, step_ns) = (frame.index, frame.step_ns);
-    handoff.release();
+    // SAFETY: every part is published and not yet released, so no helper is writing.
+    render.copy_from(unsafe { shared.finished() });
+    // The frame's step is its slowest band: the time the main thread could have had to wait.
+    let mut step_ns = 0;
+    let mut wrong = None;
+    for part in &shared.parts {
+        // SAFETY: as above, the stamp is published and not yet released.
+        let stamp = unsafe { part.stamp.get() };
+        step_ns = step_ns.max(stamp.step_ns);
+        if stamp.index != k {
+            wrong = Some(stamp.index);
+        }
+    }
+    for part in &shared.parts {
+        part.handoff.release();
+    }
     let t3 = Instant::now();
-    if index != k {
+    if let Some(index) = wrong {
         return Err(LoopError::Helper(format!(
             "frame {k} expected, helper delivered frame {index}"
         )));
@@ -331,66 +528,73 @@ fn stalled(spec: &LoopSpec, who: &'static str) -> LoopError {
     }
 }
 
-/// The helper's side of one frame: compute frame k's mesh into the slot and publish it.
-fn produce(spec: &LoopSpec, k: u64, ocean: &mut Ocean, slot: &Slot<Frame>, handoff: &dyn Handoff) {
+/// Helper `h`'s side of one frame: compute its rows of frame k into the slot and publish them.
+fn produce(spec: &LoopSpec, k: u64, ocean: &mut Ocean, shared: &Shared, h: usize) {
     if spec.stall_at_frame == Some(k) {
         // A helper that never publishes again: the main thread's timeout must end the cell.
         loop {
             std::thread::park();
         }
     }
-    // SAFETY: the slot is Empty (never published, or released by the main thread), so the main
-    // thread is not reading it.
-    let frame = unsafe { slot.get_mut() };
+    let part = &shared.parts[h];
+    let t = time_of(spec, k);
     let t0 = Instant::now();
-    ocean.step(time_of(spec, k), &mut frame.mesh);
-    frame.step_ns = ns(t0.elapsed());
-    frame.index = k;
-    handoff.publish();
+    // SAFETY (both arms): part h is Empty (never published, or released by the main thread),
+    // so the main thread is not reading it; other helpers only touch their own rows.
+    if shared.parts.len() == 1 {
+        ocean.step(t, unsafe { shared.whole() });
+    } else {
+        ocean.step_rows(t, unsafe { shared.band(h) });
+    }
+    // SAFETY: as above, the stamp belongs to helper h until it publishes.
+    let stamp = unsafe { part.stamp.get_mut() };
+    stamp.step_ns = ns(t0.elapsed());
+    stamp.index = k;
+    part.handoff.publish();
 }
 
 fn pool<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
-    mut ocean: Ocean,
+    ocean: Ocean,
     mut observe: F,
 ) -> Result<LoopRun, LoopError> {
     let main_pin = affinity::pin_current(spec.main_core);
-    let handoff: Arc<dyn Handoff> = Arc::from(spec.sync.handoff());
-    let slot = Arc::new(Slot::new(Frame {
-        index: 0,
-        step_ns: 0,
-        mesh: Mesh::new(spec.grid),
-    }));
-    let helper = {
-        let (handoff, slot, spec) = (Arc::clone(&handoff), Arc::clone(&slot), spec.clone());
-        std::thread::Builder::new()
-            .name("ocean-helper".into())
+    let shared = Arc::new(Shared::new(spec));
+    let mut helpers = Vec::with_capacity(shared.parts.len());
+    // Each helper owns an `Ocean` of its own: the fast kernel keeps per-band tables in it.
+    for h in 0..shared.parts.len() {
+        let (mine, spec, mut ocean) = (Arc::clone(&shared), spec.clone(), ocean.clone());
+        let helper = std::thread::Builder::new()
+            .name(format!("ocean-helper-{h}"))
             .spawn(move || -> Result<Pin, LoopError> {
-                let pin = affinity::pin_current(spec.helper_core);
+                let pin = affinity::pin_current(spec.helper_core_of(h));
+                let handoff = &*mine.parts[h].handoff;
                 let mut k = 0;
                 loop {
-                    produce(&spec, k, &mut ocean, &slot, &*handoff);
+                    produce(&spec, k, &mut ocean, &mine, h);
                     match handoff.wait_released(Instant::now() + spec.timeout) {
                         Ok(Released::Next) => k += 1,
                         Ok(Released::Shutdown) => return Ok(pin),
                         Err(_) => return Err(stalled(&spec, "the helper (waiting for release)")),
                     }
                 }
-            })
-            .map_err(|e| LoopError::Helper(e.to_string()))?
-    };
+            });
+        match helper {
+            Ok(helper) => helpers.push(helper),
+            Err(e) => {
+                // The helpers already started would wait for a release forever: stop them.
+                for part in &shared.parts {
+                    part.handoff.shutdown();
+                }
+                return Err(LoopError::Helper(e.to_string()));
+            }
+        }
+    }
     let mut render = Mesh::new(spec.grid);
     let mut clock = Clock::new(budget);
     let outcome = loop {
-        match consume(
-            spec,
-            clock.frame,
-            &*handoff,
-            &slot,
-            &mut render,
-            &mut observe,
-        ) {
+        match consume(spec, clock.frame, &shared, &mut render, &mut observe) {
             Ok(record) => {
                 if clock.finish(record) {
                     break Ok(());
@@ -402,16 +606,27 @@ fn pool<F: FnMut(u64, &Mesh)>(
             Err(e) => break Err(e),
         }
     };
-    handoff.shutdown();
+    for part in &shared.parts {
+        part.handoff.shutdown();
+    }
     // A stalled helper may never return: leave it behind rather than hang the process.
     outcome?;
-    let helper_pin = helper
-        .join()
-        .map_err(|_| LoopError::Helper("helper thread panicked".into()))??;
+    let mut helper_pins = Vec::with_capacity(helpers.len());
+    for helper in helpers {
+        helper_pins.push(
+            helper
+                .join()
+                .map_err(|_| LoopError::Helper("helper thread panicked".into()))??,
+        );
+    }
     Ok(LoopRun {
         trial: clock.trial(),
         main_pin,
-        helper_pin: Some(helper_pin),
+        helper_pin: Some(Pin {
+            core: helper_pins[0].core,
+            held: helper_pins.iter().all(|p| p.held),
+        }),
+        helper_pins,
     })
 }
 
@@ -422,12 +637,7 @@ fn spawn_per_frame<F: FnMut(u64, &Mesh)>(
     mut observe: F,
 ) -> Result<LoopRun, LoopError> {
     let main_pin = affinity::pin_current(spec.main_core);
-    let handoff: Arc<dyn Handoff> = Arc::from(spec.sync.handoff());
-    let slot = Arc::new(Slot::new(Frame {
-        index: 0,
-        step_ns: 0,
-        mesh: Mesh::new(spec.grid),
-    }));
+    let shared = Arc::new(Shared::new(spec));
     let mut ocean = Some(ocean);
     let mut helpers_held = true;
     let mut render = Mesh::new(spec.grid);
@@ -436,7 +646,7 @@ fn spawn_per_frame<F: FnMut(u64, &Mesh)>(
         let k = clock.frame;
         let t0 = Instant::now();
         let helper = {
-            let (handoff, slot, spec) = (Arc::clone(&handoff), Arc::clone(&slot), spec.clone());
+            let (shared, spec) = (Arc::clone(&shared), spec.clone());
             let mut ocean = ocean
                 .take()
                 .expect("the ocean is returned by every joined helper");
@@ -445,12 +655,12 @@ fn spawn_per_frame<F: FnMut(u64, &Mesh)>(
                 .name("ocean-helper".into())
                 .spawn(move || {
                     let pin = affinity::pin_current(spec.helper_core);
-                    produce(&spec, k, &mut ocean, &slot, &*handoff);
+                    produce(&spec, k, &mut ocean, &shared, 0);
                     (ocean, pin)
                 })
                 .map_err(|e| LoopError::Helper(e.to_string()))?
         };
-        let mut record = consume(spec, k, &*handoff, &slot, &mut render, &mut observe)?;
+        let mut record = consume(spec, k, &shared, &mut render, &mut observe)?;
         let (back, pin) = helper
             .join()
             .map_err(|_| LoopError::Helper("helper thread panicked".into()))?;
@@ -465,12 +675,14 @@ fn spawn_per_frame<F: FnMut(u64, &Mesh)>(
             return Err(LoopError::Interrupted);
         }
     }
+    let helper_pin = Pin {
+        core: spec.helper_core,
+        held: helpers_held,
+    };
     Ok(LoopRun {
         trial: clock.trial(),
         main_pin,
-        helper_pin: Some(Pin {
-            core: spec.helper_core,
-            held: helpers_held,
-        }),
+        helper_pin: Some(helper_pin),
+        helper_pins: vec![helper_pin],
     })
 }

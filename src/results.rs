@@ -29,10 +29,18 @@ pub struct CellKey {
     pub normals: NormalMethod,
     /// Kernel.
     pub kernel: Kernel,
+    /// Helper threads the mesh's rows were split among (1 in results written before helpers).
+    #[serde(default = "one_helper")]
+    pub helpers: usize,
+}
+
+fn one_helper() -> usize {
+    1
 }
 
 impl CellKey {
-    /// A short label such as `256 w2 dp atomic pool neighbors reference`.
+    /// A short label such as `256 w2 dp atomic pool neighbors reference` (`h2` after the
+    /// threading when the mesh is split among two helpers).
     pub fn label(&self) -> String {
         let mut parts = vec![
             format!("{}", self.size),
@@ -44,6 +52,9 @@ impl CellKey {
         }
         if let Some(t) = self.threading {
             parts.push(t.name().into());
+        }
+        if self.helpers != 1 {
+            parts.push(format!("h{}", self.helpers));
         }
         parts.push(self.normals.name().into());
         parts.push(self.kernel.name().into());

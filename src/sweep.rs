@@ -25,7 +25,7 @@ pub fn cells(config: &SweepConfig) -> Vec<CellKey> {
             for &normals in &config.normals {
                 for &kernel in &config.kernel {
                     for &mode in &config.modes {
-                        let key = |sync, threading| CellKey {
+                        let key = |sync, threading, helpers| CellKey {
                             size,
                             workload,
                             mode,
@@ -33,14 +33,17 @@ pub fn cells(config: &SweepConfig) -> Vec<CellKey> {
                             threading,
                             normals,
                             kernel,
+                            helpers,
                         };
                         if mode == Mode::Serial {
-                            out.push(key(None, None));
+                            out.push(key(None, None, 1));
                             continue;
                         }
-                        for &threading in &config.threading {
-                            for &sync in &config.sync {
-                                out.push(key(Some(sync), Some(threading)));
+                        for &helpers in &config.helpers {
+                            for &threading in &config.threading {
+                                for &sync in &config.sync {
+                                    out.push(key(Some(sync), Some(threading), helpers));
+                                }
                             }
                         }
                     }
@@ -289,6 +292,13 @@ impl Sweep {
             workload_iterations: iterations,
             main_core: self.cores[0],
             helper_core,
+            helpers: key.helpers,
+            // In up every helper shares the main core; in dp they cycle through the allowed
+            // cores from the configured helper core on.
+            helper_cores: match key.mode {
+                Mode::Dp => frame_loop::cycle_cores(helper_core, key.helpers),
+                _ => Vec::new(),
+            },
             time_step: config.time_step,
             timeout: Duration::from_secs_f64(config.timeout_seconds),
             stop: Some(Arc::clone(&self.stop)),

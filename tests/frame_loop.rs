@@ -22,6 +22,8 @@ fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMetho
         workload_iterations: 50,
         main_core: cores[0],
         helper_core: if mode == Mode::Dp { cores[1] } else { cores[0] },
+        helpers: 1,
+        helper_cores: Vec::new(),
         time_step: 1.0 / 60.0,
         timeout: Duration::from_secs(20),
         stop: None,
@@ -35,7 +37,12 @@ fn frames(spec: &LoopSpec) -> Vec<(u64, Mesh)> {
     let run = frame_loop::run(spec, &Budget::exact(FRAMES), |k, mesh| {
         seen.push((k, mesh.clone()))
     })
-    .unwrap_or_else(|e| panic!("{:?} {:?} {:?}: {e}", spec.mode, spec.sync, spec.threading));
+    .unwrap_or_else(|e| {
+        panic!(
+            "{:?} {:?} {:?} x{}: {e}",
+            spec.mode, spec.sync, spec.threading, spec.helpers
+        )
+    });
     assert_eq!(run.trial.frames.len() as u64, FRAMES);
     seen
 }
@@ -113,4 +120,89 @@ fn pins_are_recorded_for_both_threads() {
         assert_eq!(helper.core, s.helper_core);
         assert!(run.main_pin.held && helper.held);
     }
+}
+
+/// Splitting the mesh's rows among helpers changes who computes a row, never its value: 2 and
+/// 3 helpers (3 does not divide 9 rows evenly) give the serial meshes, each frame once in order,
+/// with every hand-off and both kernels.
+#[test]
+fn split_meshes_are_bit_identical_to_serial_each_frame_once_in_order() {
+    for kernel in [Kernel::Reference, Kernel::Fast] {
+        let mut serial_spec = spec(
+            Mode::Serial,
+            SyncMethod::Atomic,
+            Threading::Pool,
+            NormalMethod::Analytic,
+        );
+        serial_spec.kernel = kernel;
+        let serial = frames(&serial_spec);
+        for mode in modes() {
+            for sync in SyncMethod::ALL {
+                for helpers in [2, 3] {
+                    let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
+                    s.kernel = kernel;
+                    s.helpers = helpers;
+                    if mode == Mode::Dp {
+                        s.helper_cores = frame_loop::cycle_cores(s.helper_core, helpers);
+                    }
+                    let got = frames(&s);
+                    let indices: Vec<u64> = got.iter().map(|(k, _)| *k).collect();
+                    assert_eq!(indices, (0..FRAMES).collect::<Vec<_>>());
+                    for ((k, mesh), (_, smesh)) in got.iter().zip(&serial) {
+                        assert!(
+                            mesh == smesh,
+                            "{kernel:?} {mode:?} {sync:?} x{helpers}: frame {k} differs"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn every_helper_is_pinned_to_its_core() {
+    let cores = affinity::allowed_cores();
+    for mode in modes() {
+        let mut s = spec(
+            mode,
+            SyncMethod::Condvar,
+            Threading::Pool,
+            NormalMethod::Analytic,
+        );
+        s.helpers = 3;
+        if mode == Mode::Dp {
+            s.helper_cores = frame_loop::cycle_cores(s.helper_core, 3);
+            // Cycling from the helper core on wraps through every allowed core.
+            assert_eq!(s.helper_cores[0], s.helper_core);
+            assert!(s.helper_cores.iter().all(|c| cores.contains(c)));
+        }
+        let run = frame_loop::run(&s, &Budget::exact(5), |_, _| {}).unwrap();
+        assert_eq!(run.helper_pins.len(), 3);
+        for (k, pin) in run.helper_pins.iter().enumerate() {
+            assert_eq!(pin.core, s.helper_core_of(k));
+            assert!(pin.held, "helper {k} pinned to an allowed core holds");
+        }
+        assert!(run.helper_pin.is_some_and(|p| p.held));
+    }
+}
+
+#[test]
+fn unsupported_helper_counts_are_refused_with_the_reason() {
+    let refused = |threading, normals, helpers| {
+        let mut s = spec(Mode::Up, SyncMethod::Atomic, threading, normals);
+        s.helpers = helpers;
+        match frame_loop::run(&s, &Budget::exact(1), |_, _| {}) {
+            Err(frame_loop::LoopError::Spec(msg)) => msg,
+            other => panic!("expected a spec error, got {:?}", other.map(|_| ())),
+        }
+    };
+    let msg = refused(Threading::Spawn, NormalMethod::Analytic, 2);
+    assert!(msg.contains("pool"), "{msg}");
+    let msg = refused(Threading::Pool, NormalMethod::Neighbors, 2);
+    assert!(msg.contains("analytic"), "{msg}");
+    let msg = refused(Threading::Pool, NormalMethod::Analytic, 10);
+    assert!(msg.contains("row"), "{msg}");
+    let msg = refused(Threading::Pool, NormalMethod::Analytic, 0);
+    assert!(msg.contains("1 to"), "{msg}");
 }

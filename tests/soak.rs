@@ -35,6 +35,8 @@ fn a_million_frames_per_method_none_lost() {
                 workload_iterations: 0,
                 main_core: cores[0],
                 helper_core: if mode == Mode::Dp { cores[1] } else { cores[0] },
+                helpers: 1,
+                helper_cores: Vec::new(),
                 time_step: 1.0 / 60.0,
                 timeout: Duration::from_secs(10),
                 stop: None,

@@ -109,8 +109,57 @@ impl Mesh {
         self.nz.copy_from_slice(&src.nz);
     }
 
+    /// A band of whole rows: their positions to read and their heights and normals to write.
+    pub fn rows_mut(&mut self, rows: std::ops::Range<usize>) -> MeshRows<'_> {
+        let n = self.grid.n;
+        assert!(
+            rows.start <= rows.end && rows.end <= n,
+            "rows {rows:?} outside 0..{n}"
+        );
+        let span = rows.start * n..rows.end * n;
+        MeshRows {
+            grid: self.grid,
+            first_row: rows.start,
+            x: &self.x[span.clone()],
+            y: &self.y[span.clone()],
+            z: &mut self.z[span.clone()],
+            nx: &mut self.nx[span.clone()],
+            ny: &mut self.ny[span.clone()],
+            nz: &mut self.nz[span],
+        }
+    }
+
     /// Bytes held by one mesh's six arrays.
     pub fn bytes(grid: Grid) -> usize {
         6 * grid.vertices() * std::mem::size_of::<f32>()
+    }
+}
+
+/// Whole rows `first_row..first_row + z.len() / n` of a mesh, so several threads can each fill
+/// their own band of one mesh at once. Every slice covers exactly the band's vertices.
+#[derive(Debug)]
+pub struct MeshRows<'a> {
+    /// The whole mesh's grid.
+    pub grid: Grid,
+    /// Row index (in the whole mesh) of the band's first row.
+    pub first_row: usize,
+    /// x of the band's vertices.
+    pub x: &'a [f32],
+    /// y of the band's vertices.
+    pub y: &'a [f32],
+    /// Heights of the band's vertices.
+    pub z: &'a mut [f32],
+    /// Normal x of the band's vertices.
+    pub nx: &'a mut [f32],
+    /// Normal y of the band's vertices.
+    pub ny: &'a mut [f32],
+    /// Normal z of the band's vertices.
+    pub nz: &'a mut [f32],
+}
+
+impl MeshRows<'_> {
+    /// Rows in the band.
+    pub fn rows(&self) -> usize {
+        self.z.len() / self.grid.n
     }
 }

@@ -6,7 +6,7 @@ pub mod normals;
 pub mod reference;
 pub mod waves;
 
-pub use mesh::{Grid, Mesh};
+pub use mesh::{Grid, Mesh, MeshRows};
 pub use normals::NormalMethod;
 pub use waves::{Wave, WaveSet};
 
@@ -81,21 +81,52 @@ impl Ocean {
         })
     }
 
+    /// Whether `step_rows` can fill a band alone: only analytic normals are a function of the
+    /// vertex's own x, y and t; face normals need the heights of the rows next to a band.
+    pub fn splits_into_rows(normals: NormalMethod) -> Result<(), String> {
+        match normals {
+            NormalMethod::Analytic => Ok(()),
+            other => Err(format!(
+                "helpers: more than one helper needs normals `analytic`; `{}` normals at a \
+                 band's edge need the neighbouring band's heights (not supported yet)",
+                other.name()
+            )),
+        }
+    }
+
     /// Fills `mesh` with the surface and its normals at time `t`.
     pub fn step(&mut self, t: f32, mesh: &mut Mesh) {
-        let analytic = self.normals == NormalMethod::Analytic;
-        match self.kernel {
-            Kernel::Reference => reference::step(&self.waves, mesh, t, analytic),
-            Kernel::Fast => {
-                let fast = self.fast.as_mut().expect("built for Kernel::Fast");
-                fast.step(mesh, t, analytic);
-            }
-        }
+        let n = mesh.grid.n;
+        self.heights(t, mesh.rows_mut(0..n));
         if let Some(faces) = &mut self.faces {
             faces.compute(mesh, self.normals);
         }
         if let Some(stencil) = &mut self.stencil {
             stencil.compute(mesh);
+        }
+    }
+
+    /// Fills one band of rows at time `t`, bit-identical to the same rows of `step`. Only for
+    /// analytic normals (see [`Ocean::splits_into_rows`]); keep one `Ocean` per band so the fast
+    /// kernel's tables are built once.
+    pub fn step_rows(&mut self, t: f32, rows: MeshRows<'_>) {
+        assert_eq!(
+            self.normals,
+            NormalMethod::Analytic,
+            "step_rows needs analytic normals"
+        );
+        self.heights(t, rows);
+    }
+
+    /// The kernel's part of a step: heights, and the normals too when they are analytic.
+    fn heights(&mut self, t: f32, rows: MeshRows<'_>) {
+        let analytic = self.normals == NormalMethod::Analytic;
+        match self.kernel {
+            Kernel::Reference => reference::step_rows(&self.waves, rows, t, analytic),
+            Kernel::Fast => {
+                let fast = self.fast.as_mut().expect("built for Kernel::Fast");
+                fast.step_rows(rows, t, analytic);
+            }
         }
     }
 }

@@ -1,13 +1,20 @@
 //! The reference kernel: a straight port of the paper's `TakeStepSumOfWavesWithExp` (section 4.2),
 //! per vertex and per wave, `sin` and `powf` in f32. It is kept as the oracle for faster kernels.
 
-use super::mesh::Mesh;
+use super::mesh::{Mesh, MeshRows};
 use super::waves::WaveSet;
 use std::f32::consts::PI;
 
 /// Fills `mesh.z` for time `t`, and the normals from the partial derivatives of section 3.5 when
 /// `analytic_normals` is set.
 pub fn step(waves: &WaveSet, mesh: &mut Mesh, t: f32, analytic_normals: bool) {
+    let n = mesh.grid.n;
+    step_rows(waves, mesh.rows_mut(0..n), t, analytic_normals);
+}
+
+/// `step` on a band of rows only: every vertex depends on its own x, y alone, so a band's values
+/// are bit-identical to the same rows of a whole-mesh step.
+pub fn step_rows(waves: &WaveSet, mesh: MeshRows<'_>, t: f32, analytic_normals: bool) {
     let dirs: Vec<[f32; 2]> = waves.waves.iter().map(|w| w.unit_direction()).collect();
     for v in 0..mesh.z.len() {
         let (px, py) = (mesh.x[v], mesh.y[v]);

@@ -136,9 +136,14 @@ pub fn tables(results: &Results) -> String {
     for g in groups {
         let _ = writeln!(
             out,
-            "### FPS, {} hand-off, {} helper, {} normals, {} kernel\n",
+            "### FPS, {} hand-off, {} helper{}, {} normals, {} kernel\n",
             g.sync.map_or("no", |s| s.name()),
             g.threading.map_or("no", |t| t.name()),
+            if g.helpers == 1 {
+                String::new()
+            } else {
+                format!(" ×{}", g.helpers)
+            },
             g.normals.name(),
             g.kernel.name()
         );
@@ -155,6 +160,8 @@ pub fn tables(results: &Results) -> String {
                     threading: if serial { None } else { g.threading },
                     normals: g.normals,
                     kernel: g.kernel,
+                    // Serial cells have no helper; threaded ones share the group's count.
+                    helpers: if serial { 1 } else { g.helpers },
                 })
             };
             let (s, u, d) = (find(Mode::Serial), find(Mode::Up), find(Mode::Dp));

@@ -10,7 +10,7 @@ pub mod stencil;
 pub use simd::Isa;
 pub use stencil::StencilNormals;
 
-use super::mesh::Mesh;
+use super::mesh::{Mesh, MeshRows};
 use super::waves::WaveSet;
 use phase::{Tables, WaveConsts};
 
@@ -48,16 +48,31 @@ impl FastKernel {
     /// derivatives: the same surface as `reference::step`. The mesh must be a regular grid as
     /// `Mesh::new` builds it (x depends on the column only, y on the row only).
     pub fn step(&mut self, mesh: &mut Mesh, t: f32, analytic_normals: bool) {
+        let n = mesh.grid.n;
+        self.step_rows(mesh.rows_mut(0..n), t, analytic_normals);
+    }
+
+    /// `step` on a band of rows only, bit-identical to the same rows of a whole-mesh step (each
+    /// vertex depends on its column's and row's table entries alone). The tables follow the
+    /// band, so a kernel kept for one band (one helper) builds them once.
+    pub fn step_rows(&mut self, mesh: MeshRows<'_>, t: f32, analytic_normals: bool) {
+        let (grid, first_row, rows) = (mesh.grid, mesh.first_row, mesh.rows());
         let tables = match &mut self.tables {
-            Some(tb) if tb.grid == mesh.grid => tb,
-            slot => slot.insert(Tables::new(&self.waves, mesh)),
+            Some(tb) if (tb.grid, tb.first_row, tb.rows) == (grid, first_row, rows) => tb,
+            slot => slot.insert(Tables::for_rows(
+                &self.waves,
+                grid,
+                first_row,
+                mesh.x,
+                mesh.y,
+            )),
         };
         tables.set_time(&self.waves, t as f64);
         let out = simd::Out {
-            z: &mut mesh.z,
-            nx: &mut mesh.nx,
-            ny: &mut mesh.ny,
-            nz: &mut mesh.nz,
+            z: mesh.z,
+            nx: mesh.nx,
+            ny: mesh.ny,
+            nz: mesh.nz,
         };
         simd::step(self.isa, &self.waves, tables, out, analytic_normals);
     }

@@ -5,7 +5,7 @@
 //! angle addition. Every phase is reduced to a fraction of a turn in f64 before it becomes an
 //! f32, which keeps large t and large grids as accurate as small ones.
 
-use crate::ocean::mesh::{Grid, Mesh};
+use crate::ocean::mesh::Grid;
 use crate::ocean::waves::WaveSet;
 use std::f64::consts::{FRAC_PI_4, PI};
 
@@ -77,49 +77,63 @@ fn half_angle(turns: f64) -> f64 {
     PI * (turns - turns.floor())
 }
 
-/// Column tables (fixed for a grid) and the row values of the current step.
+/// Column tables (fixed for a grid) and the row values of the current step, for one band of
+/// rows (the whole grid unless the mesh is split among helpers).
 #[derive(Clone, Debug)]
 pub struct Tables {
     /// The grid the tables were built for.
     pub grid: Grid,
+    /// The first row of the band the row values cover.
+    pub first_row: usize,
+    /// Rows in the band: row values are `[wave·rows + i]`, i counted from `first_row`.
+    pub rows: usize,
     /// sin of the column half angle, `[wave·n + j]`.
     pub col_sin: Vec<f32>,
     /// cos of the column half angle, `[wave·n + j]`.
     pub col_cos: Vec<f32>,
-    /// sin of the row half angle at t = 0 (π/4 included), `[wave·n + i]`, kept in f64 so the
+    /// sin of the row half angle at t = 0 (π/4 included), `[wave·rows + i]`, kept in f64 so the
     /// per-step rotation by the time phase adds no f32 error.
     row_sin0: Vec<f64>,
     /// cos counterpart of `row_sin0`.
     row_cos0: Vec<f64>,
-    /// sin of the row half angle at the current t, `[wave·n + i]`.
+    /// sin of the row half angle at the current t, `[wave·rows + i]`.
     pub row_sin: Vec<f32>,
-    /// cos of the row half angle at the current t, `[wave·n + i]`.
+    /// cos of the row half angle at the current t, `[wave·rows + i]`.
     pub row_cos: Vec<f32>,
 }
 
 impl Tables {
-    /// Builds the tables from the mesh's own coordinates (x of row 0, y of column 0), so the
-    /// surface is evaluated at exactly the points the reference uses.
-    pub fn new(waves: &[WaveConsts], mesh: &Mesh) -> Tables {
-        let n = mesh.grid.n;
-        let len = waves.len() * n;
+    /// Builds the tables of a band from the band's own coordinates (`x`, `y` of its vertices:
+    /// x of its first row, y of its first column), so the surface is evaluated at exactly the
+    /// points the reference uses.
+    pub fn for_rows(
+        waves: &[WaveConsts],
+        grid: Grid,
+        first_row: usize,
+        x: &[f32],
+        y: &[f32],
+    ) -> Tables {
+        let n = grid.n;
+        let rows = y.len() / n;
         let mut t = Tables {
-            grid: mesh.grid,
-            col_sin: Vec::with_capacity(len),
-            col_cos: Vec::with_capacity(len),
-            row_sin0: Vec::with_capacity(len),
-            row_cos0: Vec::with_capacity(len),
-            row_sin: vec![0.0; len],
-            row_cos: vec![0.0; len],
+            grid,
+            first_row,
+            rows,
+            col_sin: Vec::with_capacity(waves.len() * n),
+            col_cos: Vec::with_capacity(waves.len() * n),
+            row_sin0: Vec::with_capacity(waves.len() * rows),
+            row_cos0: Vec::with_capacity(waves.len() * rows),
+            row_sin: vec![0.0; waves.len() * rows],
+            row_cos: vec![0.0; waves.len() * rows],
         };
         for w in waves {
-            for &x in &mesh.x[..n] {
+            for &x in &x[..n] {
                 let (s, c) = half_angle(w.col_turns * x as f64).sin_cos();
                 t.col_sin.push(s as f32);
                 t.col_cos.push(c as f32);
             }
-            for i in 0..n {
-                let y = mesh.y[i * n] as f64;
+            for i in 0..rows {
+                let y = y[i * n] as f64;
                 let (s, c) = (half_angle(w.row_turns * y) + FRAC_PI_4).sin_cos();
                 t.row_sin0.push(s);
                 t.row_cos0.push(c);
@@ -130,10 +144,10 @@ impl Tables {
 
     /// Rotates every row half angle by the time phase of `t` (one f64 sin/cos per wave).
     pub fn set_time(&mut self, waves: &[WaveConsts], t: f64) {
-        let n = self.grid.n;
+        let m = self.rows;
         for (w, wave) in waves.iter().enumerate() {
             let (st, ct) = half_angle(wave.time_turns * t).sin_cos();
-            let range = w * n..(w + 1) * n;
+            let range = w * m..(w + 1) * m;
             let src = self.row_sin0[range.clone()]
                 .iter()
                 .zip(&self.row_cos0[range.clone()]);

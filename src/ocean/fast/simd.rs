@@ -53,7 +53,8 @@ impl Isa {
     }
 }
 
-/// The output rows of one step: heights and, for analytic normals, the normal components.
+/// The output rows of one step (the rows its `Tables` cover): heights and, for analytic normals,
+/// the normal components.
 pub struct Out<'a> {
     /// Heights.
     pub z: &'a mut [f32],
@@ -122,7 +123,7 @@ fn step_body<const F: bool, const W: bool>(
     out: Out,
     analytic: bool,
 ) {
-    let n = tables.grid.n;
+    let (n, m) = (tables.grid.n, tables.rows);
     let rows = out
         .z
         .chunks_exact_mut(n)
@@ -137,7 +138,7 @@ fn step_body<const F: bool, const W: bool>(
         for (w, wave) in waves.iter().enumerate() {
             let sa = &tables.col_sin[w * n..(w + 1) * n];
             let ca = &tables.col_cos[w * n..(w + 1) * n];
-            let (sb, cb) = (tables.row_sin[w * n + i], tables.row_cos[w * n + i]);
+            let (sb, cb) = (tables.row_sin[w * m + i], tables.row_cos[w * m + i]);
             let a = wave.amp;
             match (analytic, wave.power) {
                 (false, Power::Int(e)) => by_exp!(e, heights_int, F, (sa, ca, sb, cb, a, z)),

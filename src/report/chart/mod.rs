@@ -188,6 +188,8 @@ impl Variant {
             threading: threaded.then_some(self.threading),
             normals: self.normals,
             kernel: self.kernel,
+            // Charts draw the single-helper cells; split-mesh cells are in the tables.
+            helpers: 1,
         }
     }
 
