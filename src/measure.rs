@@ -50,6 +50,18 @@ pub struct FrameTimes {
     pub max: f64,
 }
 
+/// The quantiles of frame time every summary records, for distribution charts.
+pub const QUANTILES: [f64; 10] = [0.0, 0.1, 0.25, 0.5, 0.75, 0.9, 0.95, 0.99, 0.999, 1.0];
+
+/// One point of the frame-time distribution.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Quantile {
+    /// The quantile, 0 (fastest frame) to 1 (slowest).
+    pub q: f64,
+    /// Frame time at that quantile, nearest rank (ms).
+    pub ms: f64,
+}
+
 /// Mean time per frame of each part of the frame, in milliseconds.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Breakdown {
@@ -87,6 +99,9 @@ pub struct Summary {
     pub fps_spread: Spread,
     /// Frame-time percentiles over every measured frame.
     pub frame_time_ms: FrameTimes,
+    /// The frame-time distribution at [`QUANTILES`] (absent in results from before it existed).
+    #[serde(default)]
+    pub frame_time_quantiles: Vec<Quantile>,
     /// 1% low: frames ÷ time of the slowest 1% of frames (at least one frame).
     pub one_percent_low_fps: f64,
     /// Mean per-frame breakdown.
@@ -153,6 +168,17 @@ impl Summary {
                 p99: quantile(&times, 0.99),
                 max: times[times.len() - 1],
             },
+            frame_time_quantiles: QUANTILES
+                .iter()
+                .map(|&q| Quantile {
+                    q,
+                    ms: if q == 0.0 {
+                        times[0]
+                    } else {
+                        quantile(&times, q)
+                    },
+                })
+                .collect(),
             one_percent_low_fps: slowest as f64 * 1e3 / slow_ms,
             breakdown: Breakdown {
                 workload_ms: part(|r| r.workload_ns),

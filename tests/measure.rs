@@ -37,6 +37,18 @@ fn summary_of_known_frame_times() {
     // 1% low: the slowest 3 frames (100, 100, 20 ms) → 3 frames in 0.22 s.
     assert!((s.one_percent_low_fps - 3.0 / 0.22).abs() < 1e-9);
     assert!((s.breakdown.step_ms * 2.0 - s.frame_time_ms.mean).abs() < 1e-9);
+    let q = |x: f64| s.frame_time_quantiles.iter().find(|p| p.q == x).unwrap().ms;
+    assert_eq!(
+        s.frame_time_quantiles.len(),
+        oceanbench::measure::QUANTILES.len()
+    );
+    assert_eq!((q(0.0), q(0.5), q(0.99), q(1.0)), (10.0, 10.0, 20.0, 100.0));
+    // 198 of 300 frames take 10 ms, the rest 20 or 100 ms: the 0.75 quantile is 20 ms.
+    assert_eq!(q(0.75), 20.0);
+    assert!(s
+        .frame_time_quantiles
+        .windows(2)
+        .all(|w| w[0].ms <= w[1].ms));
     assert_eq!(s.frames, 300);
     assert!(s.fps_spread.min < s.fps_spread.max && s.fps_spread.stddev > 0.0);
 }

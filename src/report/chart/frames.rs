@@ -4,7 +4,7 @@ use super::bars::shade;
 use super::render::{Body, Chart, Frame, Legend, LinePanel, LinePlot, Series, StackPlot, StackRow};
 use super::{mode_name, short_mode, Missing, Runs, CHART_SIZE};
 use crate::frame_loop::Mode;
-use crate::measure::Summary;
+use crate::measure::{Summary, QUANTILES};
 use crate::sync::SyncMethod;
 use plotters::style::RGBColor;
 
@@ -29,6 +29,27 @@ fn points(s: &Summary) -> Vec<Option<f64>> {
     vec![Some(t.mean), Some(t.median), Some(t.p99), slow, Some(t.max)]
 }
 
+/// The recorded distribution at [`QUANTILES`], when the results file has it.
+fn quantile_points(s: &Summary) -> Option<Vec<Option<f64>>> {
+    let qs = &s.frame_time_quantiles;
+    (qs.len() == QUANTILES.len()
+        && qs
+            .iter()
+            .zip(QUANTILES)
+            .all(|(p, q)| (p.q - q).abs() < 1e-9))
+    .then(|| qs.iter().map(|p| Some(p.ms)).collect())
+}
+
+/// Axis label of a quantile.
+fn quantile_label(q: f64) -> String {
+    match q {
+        0.0 => "min".into(),
+        0.5 => "median".into(),
+        1.0 => "max".into(),
+        _ => format!("p{}", q * 100.0),
+    }
+}
+
 fn focus_text(size: usize, workload: usize) -> String {
     format!("{size}×{size} mesh, workload {workload}")
 }
@@ -49,6 +70,22 @@ pub(super) fn frame_times(runs: &Runs, focus: Option<(usize, usize)>) -> Result<
         }
         legend.push(Legend::boxed(runs.series(run, "serial"), shade(SERIAL, r)));
     }
+    // The full distribution when every cell recorded it; older files give the five points.
+    let all_have_quantiles = runs.runs.iter().all(|run| {
+        run.results
+            .cells
+            .iter()
+            .filter(|c| c.key.size == size && c.key.workload == workload)
+            .filter_map(|c| c.summary.as_ref())
+            .all(|s| quantile_points(s).is_some())
+    });
+    let points = |s: &Summary| {
+        if all_have_quantiles {
+            quantile_points(s).unwrap_or_else(|| points(s))
+        } else {
+            points(s)
+        }
+    };
     let mut panels = vec![];
     let mut any = false;
     for mode in runs.modes().into_iter().filter(|&m| m != Mode::Serial) {
@@ -84,11 +121,15 @@ pub(super) fn frame_times(runs: &Runs, focus: Option<(usize, usize)>) -> Result<
         ));
     }
     let mut lines = runs.machine_lines();
-    lines.push(
-        "Per-frame times are not stored, so each line is a percentile curve through the stored \
-         points: median, p99, mean of the slowest 1% (from the 1% low) and max; the mean stands apart."
-            .into(),
-    );
+    lines.push(if all_have_quantiles {
+        "Each line is the frame-time distribution over all measured frames of the cell: \
+         the frame time at each quantile (nearest rank), fastest to slowest."
+            .into()
+    } else {
+        "This results file stores no quantiles, so each line goes through the stored points: \
+         median, p99, mean of the slowest 1% (from the 1% low) and max; the mean stands apart."
+            .into()
+    });
     lines.push(format!("{}.", v.describe(false)));
     Ok(Chart {
         frame: Frame {
@@ -102,11 +143,19 @@ pub(super) fn frame_times(runs: &Runs, focus: Option<(usize, usize)>) -> Result<
         },
         body: Body::Lines(LinePlot {
             panels,
-            categories: ["mean", "median", "p99", "slowest 1%", "max"]
-                .map(String::from)
-                .to_vec(),
-            first_apart: true,
-            x_desc: "statistic over all measured frames".into(),
+            categories: if all_have_quantiles {
+                QUANTILES.iter().map(|&q| quantile_label(q)).collect()
+            } else {
+                ["mean", "median", "p99", "slowest 1%", "max"]
+                    .map(String::from)
+                    .to_vec()
+            },
+            first_apart: !all_have_quantiles,
+            x_desc: if all_have_quantiles {
+                "quantile of the measured frames".into()
+            } else {
+                "statistic over all measured frames".into()
+            },
             y_desc: "frame time (ms, log scale)".into(),
         }),
         size: CHART_SIZE,

@@ -437,6 +437,23 @@ fn bar_panel<DB: DrawingBackend>(
     Ok(())
 }
 
+/// Tick values 1, 2, 5 × 10^k inside `lo..hi`: plotters' own log ticks are whole decades only,
+/// which leaves a range shorter than a decade with one label or none.
+fn one_two_five(lo: f64, hi: f64) -> Vec<f64> {
+    let mut ticks = Vec::new();
+    let mut decade = 10f64.powf(lo.log10().floor());
+    while decade <= hi {
+        for m in [1.0, 2.0, 5.0] {
+            let v = m * decade;
+            if (lo..=hi).contains(&v) {
+                ticks.push(v);
+            }
+        }
+        decade *= 10.0;
+    }
+    ticks
+}
+
 fn lines<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, plot: &LinePlot) -> Result<(), String> {
     let values = || {
         plot.panels
@@ -460,7 +477,10 @@ fn lines<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, plot: &LinePlot) -> 
             .margin(10)
             .x_label_area_size(58)
             .y_label_area_size(88)
-            .build_cartesian_2d(categories(-0.4..n as f64 - 0.6, n), (lo..hi).log_scale())
+            .build_cartesian_2d(
+                categories(-0.4..n as f64 - 0.6, n),
+                (lo..hi).log_scale().with_key_points(one_two_five(lo, hi)),
+            )
             .map_err(err)?;
         let x_fmt = |v: &f64| label_at(&plot.categories, *v);
         let y_fmt = |v: &f64| ms(*v);
