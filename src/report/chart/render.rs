@@ -437,13 +437,13 @@ fn bar_panel<DB: DrawingBackend>(
     Ok(())
 }
 
-/// Tick values 1, 2, 5 × 10^k inside `lo..hi`: plotters' own log ticks are whole decades only,
+/// Tick values 1, 2, 3, 5 × 10^k inside `lo..hi`: plotters' own log ticks are whole decades only,
 /// which leaves a range shorter than a decade with one label or none.
 fn one_two_five(lo: f64, hi: f64) -> Vec<f64> {
     let mut ticks = Vec::new();
     let mut decade = 10f64.powf(lo.log10().floor());
     while decade <= hi {
-        for m in [1.0, 2.0, 5.0] {
+        for m in [1.0, 2.0, 3.0, 5.0] {
             let v = m * decade;
             if (lo..=hi).contains(&v) {
                 ticks.push(v);
