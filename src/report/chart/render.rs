@@ -439,7 +439,7 @@ fn bar_panel<DB: DrawingBackend>(
 
 /// Tick values 1, 2, 3, 5 × 10^k inside `lo..hi`: plotters' own log ticks are whole decades only,
 /// which leaves a range shorter than a decade with one label or none.
-fn one_two_five(lo: f64, hi: f64) -> Vec<f64> {
+fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
     let mut ticks = Vec::new();
     let mut decade = 10f64.powf(lo.log10().floor());
     while decade <= hi {
@@ -479,7 +479,7 @@ fn lines<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, plot: &LinePlot) -> 
             .y_label_area_size(88)
             .build_cartesian_2d(
                 categories(-0.4..n as f64 - 0.6, n),
-                (lo..hi).log_scale().with_key_points(one_two_five(lo, hi)),
+                (lo..hi).log_scale().with_key_points(log_ticks(lo, hi)),
             )
             .map_err(err)?;
         let x_fmt = |v: &f64| label_at(&plot.categories, *v);
