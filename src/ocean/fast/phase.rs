@@ -13,6 +13,10 @@ use std::f64::consts::{FRAC_PI_4, PI};
 /// exp/log path is used.
 pub const MAX_INT_EXP: u32 = 12;
 
+/// Column tables are padded to a multiple of this many entries, the widest fused tile, so
+/// tiles at a row's end load whole vectors (the padding is 0 and its lanes are never stored).
+pub const COL_PAD: usize = 64;
+
 /// How |h|^(2k−2) is evaluated for one wave.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Power {
@@ -87,9 +91,11 @@ pub struct Tables {
     pub first_row: usize,
     /// Rows in the band: row values are `[wave·rows + i]`, i counted from `first_row`.
     pub rows: usize,
-    /// sin of the column half angle, `[wave·n + j]`.
+    /// Entries per wave in the column tables: n rounded up to a multiple of `COL_PAD`.
+    pub stride: usize,
+    /// sin of the column half angle, `[wave·stride + j]`.
     pub col_sin: Vec<f32>,
-    /// cos of the column half angle, `[wave·n + j]`.
+    /// cos of the column half angle, `[wave·stride + j]`.
     pub col_cos: Vec<f32>,
     /// sin of the row half angle at t = 0 (π/4 included), `[wave·rows + i]`, kept in f64 so the
     /// per-step rotation by the time phase adds no f32 error.
@@ -115,12 +121,14 @@ impl Tables {
     ) -> Tables {
         let n = grid.n;
         let rows = y.len() / n;
+        let stride = n.next_multiple_of(COL_PAD);
         let mut t = Tables {
             grid,
             first_row,
             rows,
-            col_sin: Vec::with_capacity(waves.len() * n),
-            col_cos: Vec::with_capacity(waves.len() * n),
+            stride,
+            col_sin: Vec::with_capacity(waves.len() * stride),
+            col_cos: Vec::with_capacity(waves.len() * stride),
             row_sin0: Vec::with_capacity(waves.len() * rows),
             row_cos0: Vec::with_capacity(waves.len() * rows),
             row_sin: vec![0.0; waves.len() * rows],
@@ -132,6 +140,8 @@ impl Tables {
                 t.col_sin.push(s as f32);
                 t.col_cos.push(c as f32);
             }
+            t.col_sin.resize(t.col_sin.len() + stride - n, 0.0);
+            t.col_cos.resize(t.col_cos.len() + stride - n, 0.0);
             for i in 0..rows {
                 let y = y[i * n] as f64;
                 let (s, c) = (half_angle(w.row_turns * y) + FRAC_PI_4).sin_cos();

@@ -1,13 +1,18 @@
-//! The row loops of the fast kernel and their run-time dispatch.
+//! Run-time dispatch to the instruction sets, the per-vertex wave formula every path shares,
+//! and the per-wave row loops.
 //!
-//! Each loop is plain Rust over slices, `#[inline(always)]`, and is instantiated inside
-//! `#[target_feature]` entry points, so LLVM vectorises the same source for AVX-512, AVX2+FMA
-//! and the portable baseline; the binary stays portable and the widest path is picked at run
-//! time.
+//! Each loop is `#[inline(always)]` and generic over the vector type, and is instantiated
+//! inside one `#[target_feature]` entry point per instruction set, so the same source is
+//! compiled for AVX-512, AVX2+FMA and the portable baseline; the binary stays portable and the
+//! widest path is picked at run time. The per-wave loops are plain Rust over slices that LLVM
+//! vectorises; they cover every exponent and are the baseline the fused loop is measured
+//! against.
 
-use super::math::{fma, pow_abs, powi};
-use super::norm;
+use super::math::{pow_abs, powi};
 use super::phase::{Power, Tables, WaveConsts};
+#[cfg(target_arch = "x86_64")]
+use super::vector::{Avx2, Avx512};
+use super::vector::{Lane, Portable, Real, Vector};
 
 /// The instruction set a fast kernel runs with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -66,195 +71,251 @@ pub struct Out<'a> {
     pub nz: &'a mut [f32],
 }
 
-/// Runs one step with `isa`, which the caller has checked this CPU supports.
-pub fn step(isa: Isa, waves: &[WaveConsts], tables: &Tables, out: Out, analytic: bool) {
+impl<'a> Out<'a> {
+    /// Row by row: `[z, nx, ny, nz]` of each row of `n` vertices.
+    pub fn rows(self, n: usize) -> impl Iterator<Item = [&'a mut [f32]; 4]> {
+        let Out { z, nx, ny, nz } = self;
+        let zs = z.chunks_exact_mut(n).zip(nx.chunks_exact_mut(n));
+        let ns = ny.chunks_exact_mut(n).zip(nz.chunks_exact_mut(n));
+        zs.zip(ns).map(|((z, nx), (ny, nz))| [z, nx, ny, nz])
+    }
+}
+
+/// Work generic over the instruction set: `run` is instantiated once per set with its vector
+/// type `V`, whether it has FMA (`F`, for scalar `Lane<F>` loops) and the vectors in a fused
+/// tile (`K`: 4 of AVX-512's 32 registers' worth, 2 for the 16-register sets).
+pub trait ForIsa {
+    /// What the work returns.
+    type Output;
+    /// Runs the work; implementations are `#[inline(always)]` so it is compiled with `V`'s
+    /// target features.
+    fn run<const F: bool, const K: usize, V: Vector>(self) -> Self::Output;
+}
+
+/// Runs `work` with `isa`, which the caller has checked this CPU supports.
+pub fn dispatch<T: ForIsa>(isa: Isa, work: T) -> T::Output {
     match isa {
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `isa` comes from `Isa::available`, so the CPU has these features.
-        Isa::Avx512 => unsafe { step_avx512(waves, tables, out, analytic) },
+        Isa::Avx512 => unsafe { run_avx512(work) },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
-        Isa::Avx2 => unsafe { step_avx2(waves, tables, out, analytic) },
-        _ => step_body::<false, false>(waves, tables, out, analytic),
+        Isa::Avx2 => unsafe { run_avx2(work) },
+        _ => work.run::<false, 2, Portable>(),
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx2,fma")]
-fn step_avx512(waves: &[WaveConsts], tables: &Tables, out: Out, analytic: bool) {
-    step_body::<true, true>(waves, tables, out, analytic)
+fn run_avx512<T: ForIsa>(work: T) -> T::Output {
+    work.run::<true, 4, Avx512>()
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-fn step_avx2(waves: &[WaveConsts], tables: &Tables, out: Out, analytic: bool) {
-    step_body::<true, false>(waves, tables, out, analytic)
+fn run_avx2<T: ForIsa>(work: T) -> T::Output {
+    work.run::<true, 2, Avx2>()
 }
 
-/// Calls `$f::<F, E>` with the compile-time exponent matching `$e` (0..=MAX_INT_EXP).
+/// Calls `$f::<generics…, E>(args…)` with the compile-time exponent E matching `$e`
+/// (0..=MAX_INT_EXP).
 macro_rules! by_exp {
-    ($e:expr, $f:ident, $F:ident, ($($arg:expr),*)) => {
+    ($e:expr, $f:ident::<$($g:tt),*>($($arg:expr),*)) => {
         match $e {
-            0 => $f::<$F, 0>($($arg),*),
-            1 => $f::<$F, 1>($($arg),*),
-            2 => $f::<$F, 2>($($arg),*),
-            3 => $f::<$F, 3>($($arg),*),
-            4 => $f::<$F, 4>($($arg),*),
-            5 => $f::<$F, 5>($($arg),*),
-            6 => $f::<$F, 6>($($arg),*),
-            7 => $f::<$F, 7>($($arg),*),
-            8 => $f::<$F, 8>($($arg),*),
-            9 => $f::<$F, 9>($($arg),*),
-            10 => $f::<$F, 10>($($arg),*),
-            11 => $f::<$F, 11>($($arg),*),
-            12 => $f::<$F, 12>($($arg),*),
+            0 => $f::<$($g,)* 0>($($arg),*),
+            1 => $f::<$($g,)* 1>($($arg),*),
+            2 => $f::<$($g,)* 2>($($arg),*),
+            3 => $f::<$($g,)* 3>($($arg),*),
+            4 => $f::<$($g,)* 4>($($arg),*),
+            5 => $f::<$($g,)* 5>($($arg),*),
+            6 => $f::<$($g,)* 6>($($arg),*),
+            7 => $f::<$($g,)* 7>($($arg),*),
+            8 => $f::<$($g,)* 8>($($arg),*),
+            9 => $f::<$($g,)* 9>($($arg),*),
+            10 => $f::<$($g,)* 10>($($arg),*),
+            11 => $f::<$($g,)* 11>($($arg),*),
+            12 => $f::<$($g,)* 12>($($arg),*),
             _ => unreachable!("exponent above MAX_INT_EXP"),
         }
     };
 }
+pub(super) use by_exp;
 
-/// Row by row, wave by wave: the row's outputs stay in L1 while every wave adds to them, and
-/// the per-wave branch on the power kind is taken once per row, outside the vector loop.
-/// `W` selects the AVX-512 normalisation (only instantiated inside `step_avx512`).
+/// One wave's inputs along one row: its column tables (`stride` long, padding included), its
+/// row values and its constants.
+#[derive(Clone, Copy)]
+pub struct WaveRow<'a> {
+    /// sin of the column half angles.
+    pub sa: &'a [f32],
+    /// cos of the column half angles.
+    pub ca: &'a [f32],
+    /// sin of the row half angle.
+    pub sb: f32,
+    /// cos of the row half angle.
+    pub cb: f32,
+    /// Amplitude and the slope factors: A, cx, cy.
+    pub k: [f32; 3],
+}
+
+impl<'a> WaveRow<'a> {
+    /// Wave `w` along row `i` of the band `tables` covers.
+    #[inline(always)]
+    pub fn new(waves: &[WaveConsts], tables: &'a Tables, w: usize, i: usize) -> Self {
+        let (stride, m, wave) = (tables.stride, tables.rows, &waves[w]);
+        let cols = w * stride..(w + 1) * stride;
+        WaveRow {
+            sa: &tables.col_sin[cols.clone()],
+            ca: &tables.col_cos[cols],
+            sb: tables.row_sin[w * m + i],
+            cb: tables.row_cos[w * m + i],
+            k: [wave.amp, wave.cx, wave.cy],
+        }
+    }
+}
+
+/// Adds one wave at one point (or one vector of points) to `acc` = (z, ∂f/∂x, ∂f/∂y). With the
+/// vertex's half angle θ = θa + θb, h = sin θ and g = cos θ by angle addition, z gains
+/// A·|h|^(2k) and, with `S`, each slope c·|h|^(2k−2)·h·g (cos S = 2·h·g); `pow` gives
+/// |h|^(2k−2).
 #[inline(always)]
-fn step_body<const F: bool, const W: bool>(
-    waves: &[WaveConsts],
-    tables: &Tables,
-    out: Out,
+pub fn add_wave<R: Real, const S: bool>(
+    acc: &mut [R; 3],
+    (sa, ca): (R, R),
+    (sb, cb): (R, R),
+    [amp, cx, cy]: [R; 3],
+    pow: impl Fn(R) -> R,
+) {
+    let h = sa.mul_add(cb, ca * sb);
+    let p = pow(h);
+    acc[0] = amp.mul_add(p * (h * h), acc[0]);
+    if S {
+        let g = ca.mul_add(cb, -(sa * sb));
+        let q = p * (h * g);
+        acc[1] = cx.mul_add(q, acc[1]);
+        acc[2] = cy.mul_add(q, acc[2]);
+    }
+}
+
+/// |h|^E, the power of a half-integer k (E = 2k − 2); even powers need no |·|.
+#[inline(always)]
+pub fn int_pow<R: Real, const E: u32>(h: R) -> R {
+    powi::<R, E>(if E % 2 == 1 { h.abs() } else { h })
+}
+
+/// The per-wave step: `step` through `dispatch`.
+struct PerWave<'a> {
+    waves: &'a [WaveConsts],
+    tables: &'a Tables,
+    out: Out<'a>,
     analytic: bool,
-) {
-    let (n, m) = (tables.grid.n, tables.rows);
-    let rows = out
-        .z
-        .chunks_exact_mut(n)
-        .zip(out.nx.chunks_exact_mut(n))
-        .zip(out.ny.chunks_exact_mut(n).zip(out.nz.chunks_exact_mut(n)));
-    for (i, ((z, nx), (ny, nz))) in rows.enumerate() {
-        z.fill(0.0);
-        if analytic {
-            nx.fill(0.0);
-            ny.fill(0.0);
-        }
-        for (w, wave) in waves.iter().enumerate() {
-            let sa = &tables.col_sin[w * n..(w + 1) * n];
-            let ca = &tables.col_cos[w * n..(w + 1) * n];
-            let (sb, cb) = (tables.row_sin[w * m + i], tables.row_cos[w * m + i]);
-            let a = wave.amp;
-            match (analytic, wave.power) {
-                (false, Power::Int(e)) => by_exp!(e, heights_int, F, (sa, ca, sb, cb, a, z)),
-                (false, Power::General(e)) => heights_gen::<F>(sa, ca, sb, cb, a, e, z),
-                (true, Power::Int(e)) => {
-                    by_exp!(e, full_int, F, (sa, ca, sb, cb, wave, z, nx, ny))
+}
+
+/// Runs one per-wave step with `isa`, which the caller has checked this CPU supports.
+pub fn step(isa: Isa, waves: &[WaveConsts], tables: &Tables, out: Out, analytic: bool) {
+    dispatch(
+        isa,
+        PerWave {
+            waves,
+            tables,
+            out,
+            analytic,
+        },
+    )
+}
+
+impl ForIsa for PerWave<'_> {
+    type Output = ();
+
+    /// Row by row, wave by wave: the row's outputs stay in L1 while every wave adds to them, and
+    /// the per-wave branch on the power kind is taken once per row, outside the vector loop.
+    #[inline(always)]
+    fn run<const F: bool, const K: usize, V: Vector>(self) {
+        let PerWave {
+            waves,
+            tables,
+            out,
+            analytic,
+        } = self;
+        for (i, [z, nx, ny, nz]) in out.rows(tables.grid.n).enumerate() {
+            z.fill(0.0);
+            if analytic {
+                nx.fill(0.0);
+                ny.fill(0.0);
+            }
+            for w in 0..waves.len() {
+                let row = WaveRow::new(waves, tables, w, i);
+                let (z, dx, dy) = (&mut *z, &mut *nx, &mut *ny);
+                match (analytic, waves[w].power) {
+                    (false, Power::Int(e)) => by_exp!(e, row_int::<F, false>(row, z, dx, dy)),
+                    (true, Power::Int(e)) => by_exp!(e, row_int::<F, true>(row, z, dx, dy)),
+                    (false, Power::General(e)) => row_gen::<F, false>(row, e, z, dx, dy),
+                    (true, Power::General(e)) => row_gen::<F, true>(row, e, z, dx, dy),
                 }
-                (true, Power::General(e)) => full_gen::<F>(sa, ca, sb, cb, wave, e, z, nx, ny),
+            }
+            if analytic {
+                slopes_to_normals::<V>(nx, ny, nz);
             }
         }
-        if analytic {
-            #[cfg(target_arch = "x86_64")]
-            if W {
-                // SAFETY: W is only set in `step_avx512`, which runs on AVX-512 CPUs.
-                unsafe { norm::slopes_avx512(nx, ny, nz) };
-                continue;
-            }
-            norm::slopes::<F>(nx, ny, nz);
+    }
+}
+
+/// Adds one wave to a row: z and, with `S`, the slopes in `dx`, `dy`.
+#[inline(always)]
+fn add_row<const F: bool, const S: bool>(
+    row: WaveRow,
+    z: &mut [f32],
+    dx: &mut [f32],
+    dy: &mut [f32],
+    pow: impl Fn(Lane<F>) -> Lane<F>,
+) {
+    let (b, k) = ((Lane(row.sb), Lane(row.cb)), row.k.map(Lane));
+    let outs = z.iter_mut().zip(dx.iter_mut()).zip(dy.iter_mut());
+    for (((z, dx), dy), (&sa, &ca)) in outs.zip(row.sa.iter().zip(row.ca)) {
+        let mut acc = [Lane(*z), Lane(*dx), Lane(*dy)];
+        add_wave::<_, S>(&mut acc, (Lane(sa), Lane(ca)), b, k, &pow);
+        *z = acc[0].0;
+        if S {
+            *dx = acc[1].0;
+            *dy = acc[2].0;
         }
     }
 }
 
-/// sin θ of one vertex by angle addition of the column and row half angles.
+/// `add_row` for a half-integer k, exponent E = 2k − 2.
 #[inline(always)]
-fn half_sin<const F: bool>(sa: f32, ca: f32, sb: f32, cb: f32) -> f32 {
-    fma::<F>(sa, cb, ca * sb)
-}
-
-/// cos θ of one vertex by angle addition.
-#[inline(always)]
-fn half_cos<const F: bool>(sa: f32, ca: f32, sb: f32, cb: f32) -> f32 {
-    fma::<F>(ca, cb, -(sa * sb))
-}
-
-/// Adds A·|h|^(E+2) = A·((sin S + 1)/2)^k to a row of heights.
-#[inline(always)]
-fn heights_int<const F: bool, const E: u32>(
-    sa: &[f32],
-    ca: &[f32],
-    sb: f32,
-    cb: f32,
-    amp: f32,
-    z: &mut [f32],
-) {
-    for ((z, &sa), &ca) in z.iter_mut().zip(sa).zip(ca) {
-        let h = half_sin::<F>(sa, ca, sb, cb);
-        *z = fma::<F>(amp, powi::<E>(h.abs()) * (h * h), *z);
-    }
-}
-
-/// `heights_int` for any exponent e = 2k − 2.
-#[inline(always)]
-fn heights_gen<const F: bool>(
-    sa: &[f32],
-    ca: &[f32],
-    sb: f32,
-    cb: f32,
-    amp: f32,
-    e: f32,
-    z: &mut [f32],
-) {
-    for ((z, &sa), &ca) in z.iter_mut().zip(sa).zip(ca) {
-        let h = half_sin::<F>(sa, ca, sb, cb);
-        *z = fma::<F>(amp, pow_abs::<F>(h, e) * (h * h), *z);
-    }
-}
-
-/// Adds one wave's height and slope (cos S = 2·sin θ·cos θ) to a row.
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn full_int<const F: bool, const E: u32>(
-    sa: &[f32],
-    ca: &[f32],
-    sb: f32,
-    cb: f32,
-    wave: &WaveConsts,
+fn row_int<const F: bool, const S: bool, const E: u32>(
+    row: WaveRow,
     z: &mut [f32],
     dx: &mut [f32],
     dy: &mut [f32],
 ) {
-    let (amp, cx, cy) = (wave.amp, wave.cx, wave.cy);
-    let outs = z.iter_mut().zip(dx.iter_mut()).zip(dy.iter_mut());
-    for (((z, dx), dy), (&sa, &ca)) in outs.zip(sa.iter().zip(ca)) {
-        let h = half_sin::<F>(sa, ca, sb, cb);
-        let g = half_cos::<F>(sa, ca, sb, cb);
-        let p = powi::<E>(h.abs());
-        *z = fma::<F>(amp, p * (h * h), *z);
-        let q = p * (h * g);
-        *dx = fma::<F>(cx, q, *dx);
-        *dy = fma::<F>(cy, q, *dy);
-    }
+    add_row::<F, S>(row, z, dx, dy, int_pow::<Lane<F>, E>)
 }
 
-/// `full_int` for any exponent e = 2k − 2.
-#[allow(clippy::too_many_arguments)]
+/// `add_row` for any exponent e = 2k − 2 (polynomial exp and log).
 #[inline(always)]
-fn full_gen<const F: bool>(
-    sa: &[f32],
-    ca: &[f32],
-    sb: f32,
-    cb: f32,
-    wave: &WaveConsts,
+fn row_gen<const F: bool, const S: bool>(
+    row: WaveRow,
     e: f32,
     z: &mut [f32],
     dx: &mut [f32],
     dy: &mut [f32],
 ) {
-    let (amp, cx, cy) = (wave.amp, wave.cx, wave.cy);
-    let outs = z.iter_mut().zip(dx.iter_mut()).zip(dy.iter_mut());
-    for (((z, dx), dy), (&sa, &ca)) in outs.zip(sa.iter().zip(ca)) {
-        let h = half_sin::<F>(sa, ca, sb, cb);
-        let g = half_cos::<F>(sa, ca, sb, cb);
-        let p = pow_abs::<F>(h, e);
-        *z = fma::<F>(amp, p * (h * h), *z);
-        let q = p * (h * g);
-        *dx = fma::<F>(cx, q, *dx);
-        *dy = fma::<F>(cy, q, *dy);
+    add_row::<F, S>(row, z, dx, dy, |h| Lane(pow_abs::<F>(h.0, e)))
+}
+
+/// Slopes (∂f/∂x, ∂f/∂y) in `nx`, `ny` become unit normals (−∂f/∂x, −∂f/∂y, 1)/‖·‖.
+#[inline(always)]
+fn slopes_to_normals<V: Vector>(nx: &mut [f32], ny: &mut [f32], nz: &mut [f32]) {
+    for j in (0..nx.len()).step_by(V::LANES) {
+        let r = j..(j + V::LANES).min(nx.len());
+        let (dx, dy) = (
+            V::load_prefix(&nx[r.clone()]),
+            V::load_prefix(&ny[r.clone()]),
+        );
+        let [x, y, z] = V::slope_normal(dx, dy);
+        x.store_prefix(&mut nx[r.clone()]);
+        y.store_prefix(&mut ny[r.clone()]);
+        z.store_prefix(&mut nz[r]);
     }
 }

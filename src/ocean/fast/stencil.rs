@@ -1,63 +1,42 @@
-//! `neighbors` normals on the regular grid as a row-wise stencil.
+//! `neighbors` normals on the regular grid as a row-wise stencil, fused into one loop.
 //!
 //! Each vertex's adjacent faces are a fixed pattern: of cell row i−1 the second triangle of
 //! cell j−1 and both triangles of cell j, of cell row i both triangles of cell j−1 and the
-//! first of cell j. So one row of face normals is computed once, reused by the two vertex rows
-//! it touches, and summed with shifted contiguous loads instead of a gathered list. Faces and
-//! sums use the same operations in the same order as `FaceNormals` (glam's cross product,
-//! ascending triangle order, no fused multiply-add), so results match it to rounding.
+//! first of cell j. `FaceNormals` sums them in that (ascending triangle) order, so the first
+//! three terms come from the cell row above and the last three from the cell row below.
+//!
+//! One loop over vector blocks of a vertex row computes the face normals of the cells below it
+//! (from the two height rows), takes the cells one to the left from the previous block's
+//! registers, adds the row's three terms to the three the row above left, normalises, and
+//! stores the normals. It also leaves, for the next row, that row's first three terms: so of
+//! the cell row between two vertex rows only two rolling rows of partial sums (x and y) ever
+//! reach memory, and they stay in L1. The z terms depend on the spacing alone and are summed
+//! once per distinct pair of row spacings.
+//!
+//! Faces and sums use the same operations in the same order as `FaceNormals` (glam's cross
+//! product without fused multiply-add), so results match it to rounding.
 
-use super::norm;
-use super::simd::Isa;
+use super::simd::{dispatch, ForIsa, Isa};
+use super::vector::Vector;
 use crate::ocean::mesh::Mesh;
 
-/// Face normals of one row of cells, stored at column j + 1 for cell j so that index 0 and n
-/// are zero padding for the missing cells at the left and right edges. Both triangles of a
-/// cell share the z component dx·dy.
-#[derive(Clone, Debug, Default)]
-struct FaceRow {
-    t1x: Vec<f32>,
-    t1y: Vec<f32>,
-    t2x: Vec<f32>,
-    t2y: Vec<f32>,
-    fz: Vec<f32>,
-}
-
-impl FaceRow {
-    fn zeros(n: usize) -> FaceRow {
-        let z = vec![0.0; n + 1];
-        FaceRow {
-            t1x: z.clone(),
-            t1y: z.clone(),
-            t2x: z.clone(),
-            t2y: z.clone(),
-            fz: z,
-        }
-    }
-
-    fn clear(&mut self) {
-        for v in [
-            &mut self.t1x,
-            &mut self.t1y,
-            &mut self.t2x,
-            &mut self.t2y,
-            &mut self.fz,
-        ] {
-            v.fill(0.0);
-        }
-    }
-}
-
 /// The `neighbors` normal method for the fast kernel: same sums as `FaceNormals`, computed as a
-/// stencil over two rolling rows of face normals.
+/// stencil in one pass per vertex row.
 #[derive(Clone, Debug)]
 pub struct StencilNormals {
     isa: Isa,
     n: usize,
-    prev: FaceRow,
-    cur: FaceRow,
-    /// x[j + 1] − x[j] of the mesh (exactly what the reference's b − a gives).
-    dx: Vec<f32>,
+    /// For each vertex of the current row, x and y of its first three face terms (cell row
+    /// above); 0 for the first row.
+    above: [Vec<f32>; 2],
+    /// The same for the next row, written while the current row is summed.
+    below: [Vec<f32>; 2],
+    /// −(x[c + 1] − x[c]) of each cell column c; 0 from the missing cell n − 1 on.
+    ndx: Vec<f32>,
+    /// Each vertex's summed z terms for the row spacings in `zsum_for`.
+    zsum: Vec<f32>,
+    /// Bits of the spacings (above, below) `zsum` was summed for.
+    zsum_for: Option<(u32, u32)>,
 }
 
 impl StencilNormals {
@@ -72,30 +51,47 @@ impl StencilNormals {
         StencilNormals {
             isa,
             n: 0,
-            prev: FaceRow::default(),
-            cur: FaceRow::default(),
-            dx: Vec::new(),
+            above: Default::default(),
+            below: Default::default(),
+            ndx: Vec::new(),
+            zsum: Vec::new(),
+            zsum_for: None,
         }
     }
 
     /// Recomputes every vertex normal of `mesh` from its current heights.
     pub fn compute(&mut self, mesh: &mut Mesh) {
         let n = mesh.grid.n;
+        // Whole vectors of every width from any block start below n.
+        let len = n.next_multiple_of(16);
         if self.n != n {
             self.n = n;
-            self.prev = FaceRow::zeros(n);
-            self.cur = FaceRow::zeros(n);
+            for v in self.above.iter_mut().chain(&mut self.below) {
+                *v = vec![0.0; len];
+            }
+            self.zsum = vec![0.0; len];
         }
-        self.dx.clear();
-        self.dx.extend(mesh.x[..n].windows(2).map(|w| w[1] - w[0]));
-        match self.isa {
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: `with_isa` checked the CPU supports `isa`.
-            Isa::Avx512 => unsafe { compute_avx512(self, mesh) },
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: as above.
-            Isa::Avx2 => unsafe { compute_avx2(self, mesh) },
-            _ => compute_body::<false>(self, mesh),
+        self.ndx.clear();
+        self.ndx
+            .extend(mesh.x[..n].windows(2).map(|w| -(w[1] - w[0])));
+        self.ndx.resize(len, 0.0);
+        self.zsum_for = None;
+        dispatch(self.isa, Compute { s: self, mesh });
+    }
+
+    /// Sums each vertex's six face z terms (cell width × row spacing) for spacings `above`
+    /// and `below` (0 where that cell row is missing), unless they were summed last.
+    fn sum_z(&mut self, above: f32, below: f32) {
+        let key = (above.to_bits(), below.to_bits());
+        if self.zsum_for == Some(key) {
+            return;
+        }
+        self.zsum_for = Some(key);
+        let left = std::iter::once(0.0).chain(self.ndx.iter().map(|d| -d));
+        let right = self.ndx.iter().map(|d| -d);
+        for ((z, l), r) in self.zsum.iter_mut().zip(left).zip(right) {
+            let (pl, pr, cl, cr) = (l * above, r * above, l * below, r * below);
+            *z = pl + pr + pr + cl + cl + cr;
         }
     }
 }
@@ -106,98 +102,155 @@ impl Default for StencilNormals {
     }
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx2")]
-fn compute_avx512(s: &mut StencilNormals, mesh: &mut Mesh) {
-    compute_body::<true>(s, mesh)
+/// `StencilNormals::compute` through `dispatch`.
+struct Compute<'a> {
+    s: &'a mut StencilNormals,
+    mesh: &'a mut Mesh,
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn compute_avx2(s: &mut StencilNormals, mesh: &mut Mesh) {
-    compute_body::<false>(s, mesh)
+impl ForIsa for Compute<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<const F: bool, const K: usize, V: Vector>(self) {
+        let Compute { s, mesh } = self;
+        let n = s.n;
+        let Mesh {
+            y, z, nx, ny, nz, ..
+        } = mesh;
+        for v in &mut s.above {
+            v.fill(0.0);
+        }
+        let spacing = |i: usize| y[(i + 1) * n] - y[i * n];
+        for i in 0..n {
+            let cells = i + 1 < n;
+            let dy = if cells { spacing(i) } else { 0.0 };
+            s.sum_z(if i > 0 { spacing(i - 1) } else { 0.0 }, dy);
+            let (r, next) = (i * n..(i + 1) * n, (i + 1) * n..(i + 2).min(n + 1) * n);
+            let [ax, ay] = &s.above;
+            let [bx, by] = &mut s.below;
+            let row = Row {
+                z0: &z[r.clone()],
+                z1: if cells { &z[next] } else { &z[r.clone()] },
+                dy,
+                ndx: &s.ndx,
+                zsum: &s.zsum,
+                above: [ax, ay],
+                below: [bx, by],
+                out: [&mut nx[r.clone()], &mut ny[r.clone()], &mut nz[r]],
+            };
+            if cells {
+                row_normals::<V, true>(row);
+            } else {
+                row_normals::<V, false>(row);
+            }
+            std::mem::swap(&mut s.above, &mut s.below);
+        }
+    }
 }
 
-/// `W` selects the AVX-512 normalisation (only instantiated inside `compute_avx512`).
+/// One vertex row's inputs and outputs.
+struct Row<'a> {
+    /// Heights of the row.
+    z0: &'a [f32],
+    /// Heights of the next row (the row itself when there is none).
+    z1: &'a [f32],
+    /// Spacing to the next row.
+    dy: f32,
+    /// See `StencilNormals::ndx`.
+    ndx: &'a [f32],
+    /// See `StencilNormals::zsum`.
+    zsum: &'a [f32],
+    /// See `StencilNormals::above`.
+    above: [&'a [f32]; 2],
+    /// See `StencilNormals::below`.
+    below: [&'a mut [f32]; 2],
+    /// The row's normals: x, y, z.
+    out: [&'a mut [f32]; 3],
+}
+
+/// Normals of one vertex row, `V::LANES` vertices a block; `CELLS` when there is a cell row
+/// below it (every row but the last).
 #[inline(always)]
-fn compute_body<const W: bool>(s: &mut StencilNormals, mesh: &mut Mesh) {
-    let n = s.n;
-    s.prev.clear();
-    for i in 0..n {
-        if i + 1 < n {
-            let dy = mesh.y[(i + 1) * n] - mesh.y[i * n];
-            let z0 = &mesh.z[i * n..(i + 1) * n];
-            let z1 = &mesh.z[(i + 1) * n..(i + 2) * n];
-            face_row(&mut s.cur, &s.dx, dy, z0, z1);
+fn row_normals<V: Vector, const CELLS: bool>(mut r: Row) {
+    let n = r.z0.len();
+    let mut left = [V::splat(0.0); 4];
+    // Blocks whose faces need no height past the row's end; the rest go through buffers, kept
+    // apart so that the whole blocks' registers do not spill around the copies.
+    let whole = (n - 1) / V::LANES * V::LANES;
+    for j in (0..whole).step_by(V::LANES) {
+        block::<V, CELLS, true>(&mut r, j, &mut left);
+    }
+    for j in (whole..n).step_by(V::LANES) {
+        block::<V, CELLS, false>(&mut r, j, &mut left);
+    }
+}
+
+/// The normals of vertices j.. of a row; `left` holds the faces of the block before and
+/// receives this block's. `WHOLE` when j + LANES < n.
+#[inline(always)]
+fn block<V: Vector, const CELLS: bool, const WHOLE: bool>(
+    r: &mut Row,
+    j: usize,
+    left: &mut [V; 4],
+) {
+    let n = r.z0.len();
+    let here = if CELLS {
+        faces::<V, WHOLE>(r, j)
+    } else {
+        [V::splat(0.0); 4]
+    };
+    let [l1x, l1y, l2x, l2y] = std::array::from_fn(|k| here[k].shift_in(left[k]));
+    let [t1x, t1y, t2x, t2y] = here;
+    *left = here;
+    let sx = V::load(&r.above[0][j..]) + l1x + l2x + t1x;
+    let sy = V::load(&r.above[1][j..]) + l1y + l2y + t1y;
+    if CELLS {
+        (l2x + t1x + t2x).store(&mut r.below[0][j..]);
+        (l2y + t1y + t2y).store(&mut r.below[1][j..]);
+    }
+    let normal = V::unit(sx, sy, V::load(&r.zsum[j..]));
+    let v = j..(j + V::LANES).min(n);
+    for (c, out) in normal.into_iter().zip(&mut r.out) {
+        if WHOLE {
+            c.store(&mut out[j..]);
         } else {
-            s.cur.clear();
+            c.store_prefix(&mut out[v.clone()]);
         }
-        let r = i * n..(i + 1) * n;
-        let (nx, ny, nz) = (
-            &mut mesh.nx[r.clone()],
-            &mut mesh.ny[r.clone()],
-            &mut mesh.nz[r],
-        );
-        vertex_row(&s.prev, &s.cur, nx, ny, nz);
-        std::mem::swap(&mut s.prev, &mut s.cur);
-        #[cfg(target_arch = "x86_64")]
-        if W {
-            // SAFETY: W is only set in `compute_avx512`, which runs on AVX-512 CPUs.
-            unsafe { norm::sums_avx512(nx, ny, nz) };
-            continue;
-        }
-        norm::sums(nx, ny, nz);
     }
 }
 
-/// Face normals of the cells between vertex rows z0 (y) and z1 (y + dy); triangle 1 is [a,b,c],
-/// triangle 2 is [b,d,c] with a = z0[j], b = z0[j+1], c = z1[j], d = z1[j+1].
+/// x and y of both triangles' face normals (t1x, t1y, t2x, t2y) of cells j.. between height
+/// rows z0 and z1: triangle 1 is [a,b,c], triangle 2 is [b,d,c] with a = z0[j], b = z0[j+1],
+/// c = z1[j], d = z1[j+1]. Past the row's end (only when not `WHOLE`) the heights repeat the
+/// last one, which with the zero cell width there makes every term of the missing cells 0.
 #[inline(always)]
-fn face_row(f: &mut FaceRow, dx: &[f32], dy: f32, z0: &[f32], z1: &[f32]) {
-    let m = dx.len();
-    let (a, b, c, d) = (&z0[..m], &z0[1..m + 1], &z1[..m], &z1[1..m + 1]);
-    let (t1x, t1y) = (&mut f.t1x[1..m + 1], &mut f.t1y[1..m + 1]);
-    let (t2x, t2y, fz) = (
-        &mut f.t2x[1..m + 1],
-        &mut f.t2y[1..m + 1],
-        &mut f.fz[1..m + 1],
-    );
-    for j in 0..m {
-        let (ab, ac, bc, bd) = (b[j] - a[j], c[j] - a[j], c[j] - b[j], d[j] - b[j]);
-        t1x[j] = -(dy * ab);
-        t1y[j] = -(ac * dx[j]);
-        t2x[j] = dy * bc - dy * bd;
-        t2y[j] = bd * -dx[j];
-        fz[j] = dx[j] * dy;
-    }
-}
-
-/// Sums the six faces around each vertex of a row, in ascending triangle order.
-#[inline(always)]
-fn vertex_row(p: &FaceRow, c: &FaceRow, nx: &mut [f32], ny: &mut [f32], nz: &mut [f32]) {
-    let n = nx.len();
-    let (ny, nz) = (&mut ny[..n], &mut nz[..n]);
-    let (p1x, p1y, p2x, p2y, pz) = (&p.t1x, &p.t1y, &p.t2x, &p.t2y, &p.fz);
-    let (c1x, c1y, c2x, c2y, cz) = (&c.t1x, &c.t1y, &c.t2x, &c.t2y, &c.fz);
-    let (p1x, p1y, p2x, p2y, pz) = (
-        &p1x[..n + 1],
-        &p1y[..n + 1],
-        &p2x[..n + 1],
-        &p2y[..n + 1],
-        &pz[..n + 1],
-    );
-    let (c1x, c1y, c2x, c2y, cz) = (
-        &c1x[..n + 1],
-        &c1y[..n + 1],
-        &c2x[..n + 1],
-        &c2y[..n + 1],
-        &cz[..n + 1],
-    );
-    for j in 0..n {
-        let sx = p2x[j] + p1x[j + 1] + p2x[j + 1] + c1x[j] + c2x[j] + c1x[j + 1];
-        let sy = p2y[j] + p1y[j + 1] + p2y[j + 1] + c1y[j] + c2y[j] + c1y[j + 1];
-        nx[j] = sx;
-        ny[j] = sy;
-        nz[j] = pz[j] + pz[j + 1] + pz[j + 1] + cz[j] + cz[j] + cz[j + 1];
-    }
+fn faces<V: Vector, const WHOLE: bool>(r: &Row, j: usize) -> [V; 4] {
+    let n = r.z0.len();
+    let (a, b, c, d) = if WHOLE {
+        let (z0, z1) = (&r.z0[j..], &r.z1[j..]);
+        (
+            V::load(z0),
+            V::load(&z0[1..]),
+            V::load(z1),
+            V::load(&z1[1..]),
+        )
+    } else {
+        let pad = |z: &[f32]| {
+            let mut buf = [z[n - 1]; 17];
+            buf[..n - j].copy_from_slice(&z[j..]);
+            buf
+        };
+        let (p0, p1) = (pad(r.z0), pad(r.z1));
+        (
+            V::load(&p0),
+            V::load(&p0[1..]),
+            V::load(&p1),
+            V::load(&p1[1..]),
+        )
+    };
+    let (dy, ndy, ndx) = (V::splat(r.dy), V::splat(-r.dy), V::load(&r.ndx[j..]));
+    let (ab, ac, bc, bd) = (b - a, c - a, c - b, d - b);
+    // −(dy·ab) and −(ac·dx) of the cross product, with the sign moved onto a factor (exact).
+    [ab * ndy, ac * ndx, dy * bc - dy * bd, bd * ndx]
 }

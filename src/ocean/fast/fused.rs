@@ -1,0 +1,141 @@
+//! The fused wave loop: every wave of a row in one pass, for wave sets whose exponents 2k − 2
+//! are all integers (half-integer steepness, the default set among them).
+//!
+//! The per-wave loop loads and stores the row's z (and both slopes) once per wave, so at the
+//! default four waves the loads and stores of the outputs cost as much as the arithmetic. Here
+//! a row is cut into tiles of `K` vectors whose z and slopes stay in registers while every
+//! wave adds to them; the slopes become normals before the tile is stored, once.
+//!
+//! The wave loop inside a tile runs over however many waves there are (1 to `MAX_WAVES`) and
+//! dispatches each wave to its compile-time exponent once per tile, so a tile of 64 vertices
+//! (AVX-512) pays one predictable indirect branch per wave. Only exponents are monomorphised
+//! (13 of them), never wave counts or exponent combinations. Each vertex gets the per-wave
+//! path's operations in its order, so the two paths agree bit for bit on one instruction set.
+
+use super::phase::{Power, Tables, WaveConsts};
+use super::simd::{add_wave, by_exp, dispatch, int_pow, ForIsa, Isa, Out, WaveRow};
+use super::vector::Vector;
+
+/// Whether the fused loop covers `waves`: every exponent 2k − 2 an integer up to
+/// `MAX_INT_EXP`.
+pub fn covers(waves: &[WaveConsts]) -> bool {
+    waves.iter().all(|w| matches!(w.power, Power::Int(_)))
+}
+
+/// The fused step: `step` through `dispatch`.
+struct Fused<'a> {
+    waves: &'a [WaveConsts],
+    tables: &'a Tables,
+    out: Out<'a>,
+    analytic: bool,
+}
+
+/// Runs one fused step with `isa`, which the caller has checked this CPU supports; `waves`
+/// must be covered (see [`covers`]).
+pub fn step(isa: Isa, waves: &[WaveConsts], tables: &Tables, out: Out, analytic: bool) {
+    assert!(covers(waves), "fused step needs integer exponents");
+    dispatch(
+        isa,
+        Fused {
+            waves,
+            tables,
+            out,
+            analytic,
+        },
+    )
+}
+
+impl ForIsa for Fused<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<const F: bool, const K: usize, V: Vector>(self) {
+        if self.analytic {
+            rows::<V, K, true>(self);
+        } else {
+            rows::<V, K, false>(self);
+        }
+    }
+}
+
+/// Every row, tile by tile: heights and, with `S`, normals from the slopes.
+#[inline(always)]
+fn rows<V: Vector, const K: usize, const S: bool>(step: Fused) {
+    let Fused {
+        waves, tables, out, ..
+    } = step;
+    let (n, tile) = (tables.grid.n, K * V::LANES);
+    assert_eq!(
+        tables.stride % tile,
+        0,
+        "column tables padded to whole tiles"
+    );
+    for (i, [z, nx, ny, nz]) in out.rows(n).enumerate() {
+        for c in (0..n).step_by(tile) {
+            let mut acc = [[V::splat(0.0); 3]; K];
+            for w in 0..waves.len() {
+                let row = WaveRow::new(waves, tables, w, i);
+                let cols = (&row.sa[c..c + tile], &row.ca[c..c + tile]);
+                match waves[w].power {
+                    Power::Int(e) => by_exp!(e, add_tile::<V, K, S>(&mut acc, cols, row)),
+                    Power::General(_) => unreachable!("excluded by `covers`"),
+                }
+            }
+            let out = [&mut *z, &mut *nx, &mut *ny, &mut *nz];
+            // The tail's partial stores go through memory; kept apart, they do not make the
+            // whole tiles spill their accumulators.
+            if c + tile <= n {
+                store_tile::<V, K, S, true>(acc, out, c);
+            } else {
+                store_tile::<V, K, S, false>(acc, out, c);
+            }
+        }
+    }
+}
+
+/// Stores a tile's heights and, with `S`, its normals at column `c` of the row `out` (z, nx,
+/// ny, nz); `WHOLE` when the tile lies inside the row.
+#[inline(always)]
+fn store_tile<V: Vector, const K: usize, const S: bool, const WHOLE: bool>(
+    acc: [[V; 3]; K],
+    [z, nx, ny, nz]: [&mut [f32]; 4],
+    c: usize,
+) {
+    let n = z.len();
+    for (k, [hz, dx, dy]) in acc.into_iter().enumerate() {
+        let at = c + k * V::LANES;
+        if !WHOLE && at >= n {
+            break;
+        }
+        let r = at..(at + V::LANES).min(n);
+        let put = |v: V, out: &mut [f32]| {
+            if WHOLE {
+                v.store(&mut out[at..]);
+            } else {
+                v.store_prefix(&mut out[r.clone()]);
+            }
+        };
+        put(hz, z);
+        if S {
+            let [x, y, up] = V::slope_normal(dx, dy);
+            put(x, nx);
+            put(y, ny);
+            put(up, nz);
+        }
+    }
+}
+
+/// Adds one wave with exponent `E` to a tile's accumulators; `sa`, `ca` are the tile's columns.
+#[inline(always)]
+fn add_tile<V: Vector, const K: usize, const S: bool, const E: u32>(
+    acc: &mut [[V; 3]; K],
+    (sa, ca): (&[f32], &[f32]),
+    row: WaveRow,
+) {
+    let (b, k) = ((V::splat(row.sb), V::splat(row.cb)), row.k.map(V::splat));
+    for (j, acc) in acc.iter_mut().enumerate() {
+        let l = j * V::LANES;
+        let a = (V::load(&sa[l..]), V::load(&ca[l..]));
+        add_wave::<V, S>(acc, a, b, k, int_pow::<V, E>);
+    }
+}
