@@ -13,7 +13,7 @@
 //! path's operations in its order, so the two paths agree bit for bit on one instruction set.
 
 use super::phase::{Power, Tables, WaveConsts};
-use super::simd::{add_wave, by_exp, dispatch, int_pow, ForIsa, Isa, Out, WaveRow};
+use super::simd::{by_exp, dispatch, int_pow, wave_terms, ForIsa, Isa, Out, WaveRow};
 use super::vector::Vector;
 
 /// Whether the fused loop covers `waves`: every exponent 2k − 2 an integer up to
@@ -132,10 +132,15 @@ fn add_tile<V: Vector, const K: usize, const S: bool, const E: u32>(
     (sa, ca): (&[f32], &[f32]),
     row: WaveRow,
 ) {
-    let (b, k) = ((V::splat(row.sb), V::splat(row.cb)), row.k.map(V::splat));
-    for (j, acc) in acc.iter_mut().enumerate() {
+    let (b, [amp, cx, cy]) = ((V::splat(row.sb), V::splat(row.cb)), row.k.map(V::splat));
+    for (j, [z, dx, dy]) in acc.iter_mut().enumerate() {
         let l = j * V::LANES;
         let a = (V::load(&sa[l..]), V::load(&ca[l..]));
-        add_wave::<V, S>(acc, a, b, k, int_pow::<V, E>);
+        let (t, q) = wave_terms::<V, S>(a, b, int_pow::<V, E>);
+        *z = amp.mul_add(t, *z);
+        if S {
+            *dx = cx.mul_add(q, *dx);
+            *dy = cy.mul_add(q, *dy);
+        }
     }
 }

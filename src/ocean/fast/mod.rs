@@ -114,6 +114,9 @@ impl FastKernel {
             ny: mesh.ny,
             nz: mesh.nz,
         };
-        simd::step(self.isa, &self.waves, tables, out, analytic_normals);
+        match self.path {
+            Path::Fused => fused::step(self.isa, &self.waves, tables, out, analytic_normals),
+            Path::PerWave => simd::step(self.isa, &self.waves, tables, out, analytic_normals),
+        }
     }
 }

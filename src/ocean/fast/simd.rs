@@ -173,27 +173,21 @@ impl<'a> WaveRow<'a> {
     }
 }
 
-/// Adds one wave at one point (or one vector of points) to `acc` = (z, ∂f/∂x, ∂f/∂y). With the
-/// vertex's half angle θ = θa + θb, h = sin θ and g = cos θ by angle addition, z gains
-/// A·|h|^(2k) and, with `S`, each slope c·|h|^(2k−2)·h·g (cos S = 2·h·g); `pow` gives
-/// |h|^(2k−2).
+/// One wave at one point (or one vector of points): with the vertex's half angle θ = θa + θb,
+/// h = sin θ and g = cos θ by angle addition of the column's (sa, ca) and the row's (sb, cb),
+/// returns |h|^(2k) (the height term before the amplitude) and, with `S`, |h|^(2k−2)·h·g (the
+/// slope term before its factor: cos S = 2·h·g); `pow` gives |h|^(2k−2).
 #[inline(always)]
-pub fn add_wave<R: Real, const S: bool>(
-    acc: &mut [R; 3],
+pub fn wave_terms<R: Real, const S: bool>(
     (sa, ca): (R, R),
     (sb, cb): (R, R),
-    [amp, cx, cy]: [R; 3],
     pow: impl Fn(R) -> R,
-) {
+) -> (R, R) {
     let h = sa.mul_add(cb, ca * sb);
+    let g = S.then(|| ca.mul_add(cb, -(sa * sb)));
     let p = pow(h);
-    acc[0] = amp.mul_add(p * (h * h), acc[0]);
-    if S {
-        let g = ca.mul_add(cb, -(sa * sb));
-        let q = p * (h * g);
-        acc[1] = cx.mul_add(q, acc[1]);
-        acc[2] = cy.mul_add(q, acc[2]);
-    }
+    let q = g.map_or(R::splat(0.0), |g| p * (h * g));
+    (p * (h * h), q)
 }
 
 /// |h|^E, the power of a half-integer k (E = 2k − 2); even powers need no |·|.
@@ -253,13 +247,15 @@ impl ForIsa for PerWave<'_> {
                 }
             }
             if analytic {
-                slopes_to_normals::<V>(nx, ny, nz);
+                V::slopes_to_normals::<F>(nx, ny, nz);
             }
         }
     }
 }
 
-/// Adds one wave to a row: z and, with `S`, the slopes in `dx`, `dy`.
+/// Adds one wave to a row: z and, with `S`, the slopes in `dx`, `dy`. Each output is read
+/// just before it is written: the mesh's arrays are page-aligned, so reading ahead would not
+/// change which loads wait on 4K-aliased stores, and this is the order today's timings have.
 #[inline(always)]
 fn add_row<const F: bool, const S: bool>(
     row: WaveRow,
@@ -268,15 +264,22 @@ fn add_row<const F: bool, const S: bool>(
     dy: &mut [f32],
     pow: impl Fn(Lane<F>) -> Lane<F>,
 ) {
-    let (b, k) = ((Lane(row.sb), Lane(row.cb)), row.k.map(Lane));
-    let outs = z.iter_mut().zip(dx.iter_mut()).zip(dy.iter_mut());
-    for (((z, dx), dy), (&sa, &ca)) in outs.zip(row.sa.iter().zip(row.ca)) {
-        let mut acc = [Lane(*z), Lane(*dx), Lane(*dy)];
-        add_wave::<_, S>(&mut acc, (Lane(sa), Lane(ca)), b, k, &pow);
-        *z = acc[0].0;
-        if S {
-            *dx = acc[1].0;
-            *dy = acc[2].0;
+    let (b, [amp, cx, cy]) = ((Lane(row.sb), Lane(row.cb)), row.k.map(Lane));
+    let cols = row.sa[..z.len()].iter().zip(&row.ca[..z.len()]);
+    // Heights alone stream three arrays, not five: the vectoriser then needs no overlap checks
+    // against the slopes.
+    if S {
+        let outs = z.iter_mut().zip(dx.iter_mut()).zip(dy.iter_mut());
+        for (((z, dx), dy), (&sa, &ca)) in outs.zip(cols) {
+            let (t, q) = wave_terms::<_, true>((Lane(sa), Lane(ca)), b, &pow);
+            *z = amp.mul_add(t, Lane(*z)).0;
+            *dx = cx.mul_add(q, Lane(*dx)).0;
+            *dy = cy.mul_add(q, Lane(*dy)).0;
+        }
+    } else {
+        for (z, (&sa, &ca)) in z.iter_mut().zip(cols) {
+            let (t, _) = wave_terms::<_, false>((Lane(sa), Lane(ca)), b, &pow);
+            *z = amp.mul_add(t, Lane(*z)).0;
         }
     }
 }
@@ -302,20 +305,4 @@ fn row_gen<const F: bool, const S: bool>(
     dy: &mut [f32],
 ) {
     add_row::<F, S>(row, z, dx, dy, |h| Lane(pow_abs::<F>(h.0, e)))
-}
-
-/// Slopes (∂f/∂x, ∂f/∂y) in `nx`, `ny` become unit normals (−∂f/∂x, −∂f/∂y, 1)/‖·‖.
-#[inline(always)]
-fn slopes_to_normals<V: Vector>(nx: &mut [f32], ny: &mut [f32], nz: &mut [f32]) {
-    for j in (0..nx.len()).step_by(V::LANES) {
-        let r = j..(j + V::LANES).min(nx.len());
-        let (dx, dy) = (
-            V::load_prefix(&nx[r.clone()]),
-            V::load_prefix(&ny[r.clone()]),
-        );
-        let [x, y, z] = V::slope_normal(dx, dy);
-        x.store_prefix(&mut nx[r.clone()]);
-        y.store_prefix(&mut ny[r.clone()]);
-        z.store_prefix(&mut nz[r]);
-    }
 }

@@ -76,6 +76,16 @@ pub trait Vector: Real {
         }
     }
 
+    /// Slopes (∂f/∂x, ∂f/∂y) in `nx`, `ny` become unit normals along a row: by default one
+    /// `Lane<F>` at a time, for LLVM to vectorise (the per-wave path's normalisation pass).
+    #[inline(always)]
+    fn slopes_to_normals<const F: bool>(nx: &mut [f32], ny: &mut [f32], nz: &mut [f32]) {
+        for ((x, y), z) in nx.iter_mut().zip(ny.iter_mut()).zip(nz.iter_mut()) {
+            let [a, b, c] = Lane::<F>::slope_normal(Lane(*x), Lane(*y));
+            (*x, *y, *z) = (a.0, b.0, c.0);
+        }
+    }
+
     /// Writes the first `s.len()` lanes (at most `LANES`), for the tail of a row.
     #[inline(always)]
     fn store_prefix(self, s: &mut [f32]) {
@@ -212,7 +222,7 @@ mod x86 {
          mul: $mul:ident, div: $div:ident, sqrt: $sqrt:ident,
          mul_add($x:ident, $y:ident, $z:ident): $fma:expr, abs($v:ident): $abs:expr,
          neg($w:ident): $neg:expr, shift_in($cur:ident, $prev:ident): $shift:expr
-         $(, normals: { $($normals:item)* })?) => {
+         $(, normals: { $($normals:item)* })? $(, rows: { $($rows:item)* })?) => {
             $(#[$doc])*
             #[derive(Clone, Copy, Debug)]
             pub struct $name($raw);
@@ -265,6 +275,7 @@ mod x86 {
                     let ($cur, $prev) = (self.0, prev.0);
                     Self(simd!($shift))
                 }
+                $($($rows)*)?
             }
         };
     }
@@ -320,6 +331,32 @@ mod x86 {
                     ]
                 })
             }
+        },
+        rows: {
+            /// 16 lanes at a time, the row's tail under a mask so that every vertex gets the
+            /// same rounding.
+            #[inline(always)]
+            fn slopes_to_normals<const F: bool>(nx: &mut [f32], ny: &mut [f32], nz: &mut [f32]) {
+                let n = nx.len().min(ny.len()).min(nz.len());
+                for j in (0..n).step_by(16) {
+                    let k = lanes(n - j);
+                    // SAFETY: the mask `k` covers only lanes j..min(j + 16, n), inside all three
+                    // slices; the features are as for `simd!`.
+                    let (dx, dy) = unsafe {
+                        (
+                            Self(_mm512_maskz_loadu_ps(k, nx.as_ptr().add(j))),
+                            Self(_mm512_maskz_loadu_ps(k, ny.as_ptr().add(j))),
+                        )
+                    };
+                    let [x, y, z] = Self::slope_normal(dx, dy);
+                    // SAFETY: as for the loads.
+                    unsafe {
+                        _mm512_mask_storeu_ps(nx.as_mut_ptr().add(j), k, x.0);
+                        _mm512_mask_storeu_ps(ny.as_mut_ptr().add(j), k, y.0);
+                        _mm512_mask_storeu_ps(nz.as_mut_ptr().add(j), k, z.0);
+                    }
+                }
+            }
         }
     );
 
@@ -374,5 +411,15 @@ mod x86 {
             }
             _mm512_fmadd_ps(_mm512_mul_ps(r0, _mm512_set1_ps(0.5)), e, r0)
         })
+    }
+
+    /// Mask of the first min(left, 16) lanes.
+    #[inline(always)]
+    fn lanes(left: usize) -> __mmask16 {
+        if left >= 16 {
+            0xffff
+        } else {
+            (1u16 << left) - 1
+        }
     }
 }
