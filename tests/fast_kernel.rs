@@ -1,7 +1,8 @@
 //! The fast kernel against the reference kernel and the f64 oracle, on every instruction set the
-//! CPU offers, and its stencil `neighbors` normals against the reference neighbour list.
+//! CPU offers and on both its paths (fused and per-wave, which must agree bit for bit), and its
+//! stencil `neighbors` normals against the reference neighbour list.
 
-use oceanbench::ocean::fast::{FastKernel, Isa, StencilNormals};
+use oceanbench::ocean::fast::{FastKernel, Isa, Path, StencilNormals};
 use oceanbench::ocean::normals::FaceNormals;
 use oceanbench::ocean::{reference, Grid, Kernel, Mesh, NormalMethod, Ocean, Wave, WaveSet};
 use proptest::prelude::*;
@@ -35,14 +36,45 @@ fn max_diff(a: &[f32], b: &[f32]) -> f32 {
         .fold(0.0, f32::max)
 }
 
+/// Whether every enabled steepness is a half-integer with 2k − 2 <= 12, the sets the fused
+/// path takes.
+fn fused_covers(waves: &WaveSet) -> bool {
+    waves
+        .enabled()
+        .all(|w| (2.0 * w.steepness).fract() == 0.0 && w.steepness <= 7.0)
+}
+
+/// Both paths' meshes for `waves` on `isa` (both normal modes), and that they are equal bit
+/// for bit; the fused one is only taken where it covers the waves.
+fn check_paths(waves: &WaveSet, grid: Grid, t: f32, isa: Isa) {
+    let fused = FastKernel::with_isa(waves, isa);
+    let want = if fused_covers(waves) {
+        Path::Fused
+    } else {
+        Path::PerWave
+    };
+    assert_eq!(fused.path(), want, "{waves:?}");
+    for analytic in [false, true] {
+        let (mut a, mut b) = (Mesh::new(grid), Mesh::new(grid));
+        fused.clone().step(&mut a, t, analytic);
+        fused.clone().per_wave().step(&mut b, t, analytic);
+        assert!(
+            a == b,
+            "{isa:?} analytic={analytic}: fused and per-wave differ"
+        );
+    }
+}
+
 /// Checks the fast kernel on every ISA against the oracle (within the tolerance, or at worst
-/// the reference's own error), and heights-only against heights with normals.
+/// the reference's own error), heights-only against heights with normals, and the fused path
+/// against the per-wave one.
 fn check(waves: &WaveSet, grid: Grid, t: f32) {
     let mut m = Mesh::new(grid);
     reference::step(waves, &mut m, t, true);
     let reference = oracle_errors(waves, &m, t);
     let tol = tolerance(waves);
     for isa in Isa::available() {
+        check_paths(waves, grid, t, isa);
         let mut fast = FastKernel::with_isa(waves, isa);
         // Twice, so the cached tables are exercised as well as freshly built ones.
         fast.step(&mut m, t + 1.0, true);
@@ -67,21 +99,26 @@ fn check(waves: &WaveSet, grid: Grid, t: f32) {
 }
 
 fn steepness() -> impl Strategy<Value = f32> {
-    prop_oneof![
-        Just(1.0f32),
-        (2u32..=16).prop_map(|m| m as f32 / 2.0),
-        1.0f32..8.0,
-    ]
+    prop_oneof![Just(1.0f32), half_integer_steepness(), 1.0f32..8.0,]
+}
+
+/// k = 1, 1.5, …, 8: exponents 2k − 2 of 0 to 14, the fused path's 0..=12 and two above it.
+fn half_integer_steepness() -> impl Strategy<Value = f32> {
+    (2u32..=16).prop_map(|m| m as f32 / 2.0)
 }
 
 fn wave() -> impl Strategy<Value = Wave> {
+    wave_with(steepness())
+}
+
+fn wave_with(steepness: impl Strategy<Value = f32>) -> impl Strategy<Value = Wave> {
     (
         0.01f32..2.0,
         2.0f32..100.0,
         0.0f32..20.0,
         0.0f32..std::f32::consts::TAU,
         0.5f32..2.0,
-        steepness(),
+        steepness,
         prop::bool::weighted(0.8),
     )
         .prop_map(
@@ -112,6 +149,46 @@ proptest! {
     ) {
         let waves = WaveSet::new(waves).unwrap();
         check(&waves, Grid::new(n, spacing).unwrap(), t);
+    }
+
+    /// Half-integer sets of up to 16 waves (the most a set holds), which the fused path takes
+    /// unless an exponent is above 12.
+    #[test]
+    fn fused_matches_oracle_and_per_wave(
+        waves in prop::collection::vec(wave_with(half_integer_steepness()), 1..=16),
+        n in 2usize..90,
+        spacing in 0.25f32..3.0,
+        t in time(),
+    ) {
+        let waves = WaveSet::new(waves).unwrap();
+        check(&waves, Grid::new(n, spacing).unwrap(), t);
+    }
+
+    /// Any band of rows is bit-identical to the same rows of a whole step, on both paths.
+    #[test]
+    fn bands_match_whole_steps(
+        waves in prop::collection::vec(wave(), 1..=6),
+        n in 2usize..70,
+        cut in 0.0f64..1.0,
+        t in time(),
+    ) {
+        let waves = WaveSet::new(waves).unwrap();
+        let grid = Grid::new(n, 1.0).unwrap();
+        // Bands are never empty: the frame loop gives each helper at least one row.
+        let cut = 1 + (cut * (n - 1) as f64) as usize;
+        for isa in Isa::available() {
+            for kernel in [FastKernel::with_isa(&waves, isa), FastKernel::with_isa(&waves, isa).per_wave()] {
+                for analytic in [false, true] {
+                    let mut whole = Mesh::new(grid);
+                    kernel.clone().step(&mut whole, t, analytic);
+                    let mut banded = Mesh::new(grid);
+                    for rows in [0..cut, cut..n] {
+                        kernel.clone().step_rows(banded.rows_mut(rows), t, analytic);
+                    }
+                    prop_assert!(banded == whole, "{:?} {:?} analytic={}", isa, kernel.path(), analytic);
+                }
+            }
+        }
     }
 
     #[test]
