@@ -108,19 +108,19 @@ fn store_tile<V: Vector, const K: usize, const S: bool, const WHOLE: bool>(
             break;
         }
         let r = at..(at + V::LANES).min(n);
-        let put = |v: V, out: &mut [f32]| {
+        let normals = if S { V::slope_normal(dx, dy) } else { [hz; 3] };
+        let outs = [&mut *z, &mut *nx, &mut *ny, &mut *nz];
+        let count = if S { 4 } else { 1 };
+        for (v, out) in [hz, normals[0], normals[1], normals[2]]
+            .into_iter()
+            .zip(outs)
+            .take(count)
+        {
             if WHOLE {
                 v.store(&mut out[at..]);
             } else {
                 v.store_prefix(&mut out[r.clone()]);
             }
-        };
-        put(hz, z);
-        if S {
-            let [x, y, up] = V::slope_normal(dx, dy);
-            put(x, nx);
-            put(y, ny);
-            put(up, nz);
         }
     }
 }
@@ -132,7 +132,13 @@ fn add_tile<V: Vector, const K: usize, const S: bool, const E: u32>(
     (sa, ca): (&[f32], &[f32]),
     row: WaveRow,
 ) {
-    let (b, [amp, cx, cy]) = ((V::splat(row.sb), V::splat(row.cb)), row.k.map(V::splat));
+    let [amp, cx, cy] = row.k;
+    let (b, amp, cx, cy) = (
+        (V::splat(row.sb), V::splat(row.cb)),
+        V::splat(amp),
+        V::splat(cx),
+        V::splat(cy),
+    );
     for (j, [z, dx, dy]) in acc.iter_mut().enumerate() {
         let l = j * V::LANES;
         let a = (V::load(&sa[l..]), V::load(&ca[l..]));

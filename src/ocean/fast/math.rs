@@ -23,7 +23,10 @@ pub fn powi<R: Real, const E: u32>(x: R) -> R {
     let mut e = E;
     while e > 0 {
         if e & 1 == 1 {
-            r = Some(r.map_or(b, |r| r * b));
+            r = Some(match r {
+                Some(r) => r * b,
+                None => b,
+            });
         }
         b = b * b;
         e >>= 1;

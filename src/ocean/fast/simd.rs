@@ -184,10 +184,13 @@ pub fn wave_terms<R: Real, const S: bool>(
     pow: impl Fn(R) -> R,
 ) -> (R, R) {
     let h = sa.mul_add(cb, ca * sb);
-    let g = S.then(|| ca.mul_add(cb, -(sa * sb)));
-    let p = pow(h);
-    let q = g.map_or(R::splat(0.0), |g| p * (h * g));
-    (p * (h * h), q)
+    if S {
+        let g = ca.mul_add(cb, -(sa * sb));
+        let p = pow(h);
+        (p * (h * h), p * (h * g))
+    } else {
+        (pow(h) * (h * h), R::splat(0.0))
+    }
 }
 
 /// |h|^E, the power of a half-integer k (E = 2k − 2); even powers need no |·|.

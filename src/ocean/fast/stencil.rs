@@ -169,53 +169,115 @@ struct Row<'a> {
     out: [&'a mut [f32]; 3],
 }
 
+impl Row<'_> {
+    /// `V` at `s[j..]`: unchecked in whole blocks, which `row_normals` keeps inside every array,
+    /// so that the loop carries one index instead of a bounds check per access.
+    #[inline(always)]
+    fn get<V: Vector, const WHOLE: bool>(s: &[f32], j: usize) -> V {
+        if WHOLE {
+            debug_assert!(j + V::LANES <= s.len());
+            // SAFETY: see above.
+            unsafe { V::read(s.as_ptr().add(j)) }
+        } else {
+            V::load(&s[j..])
+        }
+    }
+
+    /// Writes `v` to `s[j..]`, at most to the end of `s`; unchecked in whole blocks, as `get`.
+    #[inline(always)]
+    fn put<V: Vector, const WHOLE: bool>(v: V, s: &mut [f32], j: usize) {
+        if WHOLE {
+            debug_assert!(j + V::LANES <= s.len());
+            // SAFETY: see `get`.
+            unsafe { v.write(s.as_mut_ptr().add(j)) }
+        } else {
+            let end = (j + V::LANES).min(s.len());
+            v.store_prefix(&mut s[j..end]);
+        }
+    }
+}
+
 /// Normals of one vertex row, `V::LANES` vertices a block; `CELLS` when there is a cell row
 /// below it (every row but the last).
 #[inline(always)]
 fn row_normals<V: Vector, const CELLS: bool>(mut r: Row) {
-    let n = r.z0.len();
+    let (n, l) = (r.z0.len(), V::LANES);
+    // What makes whole blocks' unchecked accesses safe: they end before n − 1 (heights are
+    // read one past a block), and the scratch arrays are as long as the padded rows.
+    assert!(r.z1.len() == n && r.out.iter().all(|o| o.len() == n));
+    let scratch = [
+        r.ndx,
+        r.zsum,
+        r.above[0],
+        r.above[1],
+        &*r.below[0],
+        &*r.below[1],
+    ];
+    assert!(scratch.iter().all(|s| s.len() >= n.next_multiple_of(l)));
     let mut left = [V::splat(0.0); 4];
-    // Blocks whose faces need no height past the row's end; the rest go through buffers, kept
-    // apart so that the whole blocks' registers do not spill around the copies.
-    let whole = (n - 1) / V::LANES * V::LANES;
-    for j in (0..whole).step_by(V::LANES) {
-        block::<V, CELLS, true>(&mut r, j, &mut left);
+    // Blocks whose faces need no height past the row's end, two at a time: one block's chain
+    // from heights to stored normals is about 60 cycles of latency, more than the FP scheduler
+    // can overlap with the next block's on its own. The rest go through padded buffers, kept
+    // apart so that the whole blocks' registers do not spill around them.
+    let whole = (n - 1) / l * l;
+    let pairs = whole / (2 * l) * (2 * l);
+    for j in (0..pairs).step_by(2 * l) {
+        blocks::<V, CELLS, true, 2>(&mut r, j, &mut left);
     }
-    for j in (whole..n).step_by(V::LANES) {
-        block::<V, CELLS, false>(&mut r, j, &mut left);
+    for j in (pairs..whole).step_by(l) {
+        blocks::<V, CELLS, true, 1>(&mut r, j, &mut left);
+    }
+    for j in (whole..n).step_by(l) {
+        blocks::<V, CELLS, false, 1>(&mut r, j, &mut left);
     }
 }
 
-/// The normals of vertices j.. of a row; `left` holds the faces of the block before and
-/// receives this block's. `WHOLE` when j + LANES < n.
+/// The normals of `U` consecutive blocks of vertices from j, their steps interleaved; `left`
+/// holds the faces of the block before and receives the last block's. `WHOLE` when the blocks
+/// end before the row's last vertex.
 #[inline(always)]
-fn block<V: Vector, const CELLS: bool, const WHOLE: bool>(
+fn blocks<V: Vector, const CELLS: bool, const WHOLE: bool, const U: usize>(
     r: &mut Row,
     j: usize,
     left: &mut [V; 4],
 ) {
-    let n = r.z0.len();
-    let here = if CELLS {
-        faces::<V, WHOLE>(r, j)
-    } else {
-        [V::splat(0.0); 4]
-    };
-    let [l1x, l1y, l2x, l2y] = std::array::from_fn(|k| here[k].shift_in(left[k]));
-    let [t1x, t1y, t2x, t2y] = here;
-    *left = here;
-    let sx = V::load(&r.above[0][j..]) + l1x + l2x + t1x;
-    let sy = V::load(&r.above[1][j..]) + l1y + l2y + t1y;
+    // Plain loops, no closures: a closure is compiled without the caller's target features,
+    // and if it is not inlined every intrinsic in it becomes a call.
+    let l = V::LANES;
+    let zero = V::splat(0.0);
+    let mut here = [[zero; 4]; U];
     if CELLS {
-        (l2x + t1x + t2x).store(&mut r.below[0][j..]);
-        (l2y + t1y + t2y).store(&mut r.below[1][j..]);
+        for (u, faces_u) in here.iter_mut().enumerate() {
+            *faces_u = faces::<V, WHOLE>(r, j + u * l);
+        }
     }
-    let normal = V::unit(sx, sy, V::load(&r.zsum[j..]));
-    let v = j..(j + V::LANES).min(n);
-    for (c, out) in normal.into_iter().zip(&mut r.out) {
-        if WHOLE {
-            c.store(&mut out[j..]);
-        } else {
-            c.store_prefix(&mut out[v.clone()]);
+    let mut shifted = [[zero; 4]; U];
+    for u in 0..U {
+        let before = if u == 0 { *left } else { here[u - 1] };
+        for k in 0..4 {
+            shifted[u][k] = here[u][k].shift_in(before[k]);
+        }
+    }
+    *left = here[U - 1];
+    let mut normals = [[zero; 3]; U];
+    for u in 0..U {
+        let ([l1x, l1y, l2x, l2y], [t1x, t1y, t2x, t2y]) = (shifted[u], here[u]);
+        let j = j + u * l;
+        let sx = Row::get::<V, WHOLE>(r.above[0], j) + l1x + l2x + t1x;
+        let sy = Row::get::<V, WHOLE>(r.above[1], j) + l1y + l2y + t1y;
+        if CELLS {
+            Row::put::<V, WHOLE>(l2x + t1x + t2x, r.below[0], j);
+            Row::put::<V, WHOLE>(l2y + t1y + t2y, r.below[1], j);
+        }
+        normals[u] = [sx, sy, Row::get::<V, WHOLE>(r.zsum, j)];
+    }
+    for normal in &mut normals {
+        let [x, y, z] = *normal;
+        *normal = V::unit(x, y, z);
+    }
+    for (u, normal) in normals.into_iter().enumerate() {
+        for (c, out) in normal.into_iter().zip(&mut r.out) {
+            Row::put::<V, WHOLE>(c, out, j + u * l);
         }
     }
 }
@@ -228,28 +290,21 @@ fn block<V: Vector, const CELLS: bool, const WHOLE: bool>(
 fn faces<V: Vector, const WHOLE: bool>(r: &Row, j: usize) -> [V; 4] {
     let n = r.z0.len();
     let (a, b, c, d) = if WHOLE {
-        let (z0, z1) = (&r.z0[j..], &r.z1[j..]);
+        let get = Row::get::<V, WHOLE>;
         (
-            V::load(z0),
-            V::load(&z0[1..]),
-            V::load(z1),
-            V::load(&z1[1..]),
+            get(r.z0, j),
+            get(r.z0, j + 1),
+            get(r.z1, j),
+            get(r.z1, j + 1),
         )
     } else {
-        let pad = |z: &[f32]| {
-            let mut buf = [z[n - 1]; 17];
-            buf[..n - j].copy_from_slice(&z[j..]);
-            buf
-        };
-        let (p0, p1) = (pad(r.z0), pad(r.z1));
-        (
-            V::load(&p0),
-            V::load(&p0[1..]),
-            V::load(&p1),
-            V::load(&p1[1..]),
-        )
+        let (p0, p1) = (r.z0[n - 1], r.z1[n - 1]);
+        let (z0, z1) = (&r.z0[j..], &r.z1[j..]);
+        let (a, b) = (V::load_padded(z0, p0), V::load_padded(&z0[1..], p0));
+        (a, b, V::load_padded(z1, p1), V::load_padded(&z1[1..], p1))
     };
-    let (dy, ndy, ndx) = (V::splat(r.dy), V::splat(-r.dy), V::load(&r.ndx[j..]));
+    let ndx = Row::get::<V, WHOLE>(r.ndx, j);
+    let (dy, ndy) = (V::splat(r.dy), V::splat(-r.dy));
     let (ab, ac, bc, bd) = (b - a, c - a, c - b, d - b);
     // −(dy·ab) and −(ac·dx) of the cross product, with the sign moved onto a factor (exact).
     [ab * ndy, ac * ndx, dy * bc - dy * bd, bd * ndx]

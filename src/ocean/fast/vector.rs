@@ -53,27 +53,57 @@ pub trait Vector: Real {
     /// f32 lanes in one value.
     const LANES: usize;
 
+    /// `LANES` values from `p`.
+    ///
+    /// # Safety
+    /// `p..p + LANES` must be readable.
+    unsafe fn read(p: *const f32) -> Self;
+
+    /// Writes the lanes to `p..p + LANES`.
+    ///
+    /// # Safety
+    /// `p..p + LANES` must be writable.
+    unsafe fn write(self, p: *mut f32);
+
     /// The first `LANES` values of `s` (which must hold that many).
-    fn load(s: &[f32]) -> Self;
+    #[inline(always)]
+    fn load(s: &[f32]) -> Self {
+        assert!(s.len() >= Self::LANES);
+        // SAFETY: the assert keeps the read inside `s`.
+        unsafe { Self::read(s.as_ptr()) }
+    }
 
     /// Writes the lanes to the first `LANES` values of `s` (which must hold that many).
-    fn store(self, s: &mut [f32]);
+    #[inline(always)]
+    fn store(self, s: &mut [f32]) {
+        assert!(s.len() >= Self::LANES);
+        // SAFETY: the assert keeps the write inside `s`.
+        unsafe { self.write(s.as_mut_ptr()) }
+    }
 
     /// `[prev[LANES − 1], self[0], …, self[LANES − 2]]`: the values one column to the left
     /// when `prev` holds the columns just before `self`'s.
     fn shift_in(self, prev: Self) -> Self;
 
-    /// The first `s.len()` values of `s` (at most `LANES`), the other lanes 0, for the tail of
-    /// a row.
+    /// The first min(`s.len()`, `LANES`) values of `s`, the other lanes `pad` (a row's tail).
     #[inline(always)]
-    fn load_prefix(s: &[f32]) -> Self {
+    fn load_padded(s: &[f32], pad: f32) -> Self {
         if s.len() >= Self::LANES {
             Self::load(s)
         } else {
-            let mut buf = [0.0f32; 16];
-            buf[..s.len()].copy_from_slice(s);
+            // Element by element: a library copy would make the caller spill its registers.
+            let mut buf = [pad; 16];
+            for (b, v) in buf.iter_mut().zip(s) {
+                *b = *v;
+            }
             Self::load(&buf)
         }
+    }
+
+    /// The first min(`s.len()`, `LANES`) values of `s`, the other lanes 0 (a row's tail).
+    #[inline(always)]
+    fn load_prefix(s: &[f32]) -> Self {
+        Self::load_padded(s, 0.0)
     }
 
     /// Slopes (∂f/∂x, ∂f/∂y) in `nx`, `ny` become unit normals along a row: by default one
@@ -86,7 +116,7 @@ pub trait Vector: Real {
         }
     }
 
-    /// Writes the first `s.len()` lanes (at most `LANES`), for the tail of a row.
+    /// Writes the first min(`s.len()`, `LANES`) lanes to `s` (a row's tail).
     #[inline(always)]
     fn store_prefix(self, s: &mut [f32]) {
         if s.len() >= Self::LANES {
@@ -94,7 +124,9 @@ pub trait Vector: Real {
         } else {
             let mut buf = [0.0f32; 16];
             self.store(&mut buf);
-            s.copy_from_slice(&buf[..s.len()]);
+            for (d, v) in s.iter_mut().zip(buf) {
+                *d = v;
+            }
         }
     }
 }
@@ -175,12 +207,14 @@ impl<const F: bool> Real for Lane<F> {
 impl<const F: bool> Vector for Lane<F> {
     const LANES: usize = 1;
     #[inline(always)]
-    fn load(s: &[f32]) -> Self {
-        Lane(s[0])
+    unsafe fn read(p: *const f32) -> Self {
+        // SAFETY: the caller's.
+        Lane(unsafe { *p })
     }
     #[inline(always)]
-    fn store(self, s: &mut [f32]) {
-        s[0] = self.0;
+    unsafe fn write(self, p: *mut f32) {
+        // SAFETY: the caller's.
+        unsafe { *p = self.0 }
     }
     #[inline(always)]
     fn shift_in(self, prev: Self) -> Self {
@@ -258,17 +292,15 @@ mod x86 {
             impl Vector for $name {
                 const LANES: usize = $lanes;
                 #[inline(always)]
-                fn load(s: &[f32]) -> Self {
-                    assert!(s.len() >= $lanes);
-                    // SAFETY: the assert keeps the unaligned load inside `s`; the features are
-                    // as for `simd!`.
-                    Self(unsafe { $loadu(s.as_ptr()) })
+                unsafe fn read(p: *const f32) -> Self {
+                    // SAFETY: the caller's, for an unaligned load; the features are as for
+                    // `simd!`.
+                    Self(unsafe { $loadu(p) })
                 }
                 #[inline(always)]
-                fn store(self, s: &mut [f32]) {
-                    assert!(s.len() >= $lanes);
-                    // SAFETY: as for `load`.
-                    unsafe { $storeu(s.as_mut_ptr(), self.0) }
+                unsafe fn write(self, p: *mut f32) {
+                    // SAFETY: as for `read`.
+                    unsafe { $storeu(p, self.0) }
                 }
                 #[inline(always)]
                 fn shift_in(self, prev: Self) -> Self {
@@ -333,28 +365,33 @@ mod x86 {
             }
         },
         rows: {
+            /// Under a mask: no buffer, so the caller keeps its registers.
+            #[inline(always)]
+            fn load_padded(s: &[f32], pad: f32) -> Self {
+                // SAFETY: the mask covers only lanes inside `s`, masked-off lanes are not
+                // accessed; the features are as for `simd!`.
+                Self(unsafe { _mm512_mask_loadu_ps(_mm512_set1_ps(pad), lanes(s.len()), s.as_ptr()) })
+            }
+
+            /// Under a mask, as `load_padded`.
+            #[inline(always)]
+            fn store_prefix(self, s: &mut [f32]) {
+                // SAFETY: as for `load_padded`.
+                unsafe { _mm512_mask_storeu_ps(s.as_mut_ptr(), lanes(s.len()), self.0) }
+            }
+
             /// 16 lanes at a time, the row's tail under a mask so that every vertex gets the
             /// same rounding.
             #[inline(always)]
             fn slopes_to_normals<const F: bool>(nx: &mut [f32], ny: &mut [f32], nz: &mut [f32]) {
                 let n = nx.len().min(ny.len()).min(nz.len());
                 for j in (0..n).step_by(16) {
-                    let k = lanes(n - j);
-                    // SAFETY: the mask `k` covers only lanes j..min(j + 16, n), inside all three
-                    // slices; the features are as for `simd!`.
-                    let (dx, dy) = unsafe {
-                        (
-                            Self(_mm512_maskz_loadu_ps(k, nx.as_ptr().add(j))),
-                            Self(_mm512_maskz_loadu_ps(k, ny.as_ptr().add(j))),
-                        )
-                    };
+                    let r = j..(j + 16).min(n);
+                    let (dx, dy) = (Self::load_prefix(&nx[r.clone()]), Self::load_prefix(&ny[r.clone()]));
                     let [x, y, z] = Self::slope_normal(dx, dy);
-                    // SAFETY: as for the loads.
-                    unsafe {
-                        _mm512_mask_storeu_ps(nx.as_mut_ptr().add(j), k, x.0);
-                        _mm512_mask_storeu_ps(ny.as_mut_ptr().add(j), k, y.0);
-                        _mm512_mask_storeu_ps(nz.as_mut_ptr().add(j), k, z.0);
-                    }
+                    x.store_prefix(&mut nx[r.clone()]);
+                    y.store_prefix(&mut ny[r.clone()]);
+                    z.store_prefix(&mut nz[r]);
                 }
             }
         }
@@ -376,8 +413,36 @@ mod x86 {
                 _mm256_castps_si256(cur),
                 _mm256_castps_si256(mid),
             ))
+        },
+        rows: {
+            /// Under a mask: no buffer, so the caller keeps its registers.
+            #[inline(always)]
+            fn load_padded(s: &[f32], pad: f32) -> Self {
+                let m = prefix_mask(s.len());
+                // SAFETY: the mask covers only lanes inside `s`, masked-off lanes are not
+                // accessed; the features are as for `simd!`.
+                let v = unsafe { _mm256_maskload_ps(s.as_ptr(), m) };
+                Self(simd!(_mm256_blendv_ps(_mm256_set1_ps(pad), v, _mm256_castsi256_ps(m))))
+            }
+
+            /// Under a mask, as `load_padded`.
+            #[inline(always)]
+            fn store_prefix(self, s: &mut [f32]) {
+                // SAFETY: as for `load_padded`.
+                unsafe { _mm256_maskstore_ps(s.as_mut_ptr(), prefix_mask(s.len()), self.0) }
+            }
         }
     );
+
+    /// AVX2 lane mask (sign bits) of the first min(len, 8) lanes.
+    #[inline(always)]
+    fn prefix_mask(len: usize) -> __m256i {
+        let len = len.min(8) as i32;
+        simd!(_mm256_cmpgt_epi32(
+            _mm256_set1_epi32(len),
+            _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)
+        ))
+    }
 
     vector!(
         /// 4 lanes of SSE2, the x86-64 baseline, without FMA.
