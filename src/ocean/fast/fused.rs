@@ -13,8 +13,9 @@
 //! path's operations in its order, so the two paths agree bit for bit on one instruction set.
 
 use super::phase::{Power, Tables, WaveConsts};
-use super::simd::{by_exp, dispatch, int_pow, wave_terms, ForIsa, Isa, Out, WaveRow};
+use super::simd::{by_exp, dispatch, int_pow, wave_terms, ForIsa, Isa, Out};
 use super::vector::Vector;
+use crate::ocean::waves::MAX_WAVES;
 
 /// Whether the fused loop covers `waves`: every exponent 2k − 2 an integer up to
 /// `MAX_INT_EXP`.
@@ -64,26 +65,42 @@ fn rows<V: Vector, const K: usize, const S: bool>(step: Fused) {
     let Fused {
         waves, tables, out, ..
     } = step;
-    let (n, tile) = (tables.grid.n, K * V::LANES);
-    assert_eq!(
-        tables.stride % tile,
-        0,
-        "column tables padded to whole tiles"
-    );
+    let (n, m, stride, tile) = (tables.grid.n, tables.rows, tables.stride, K * V::LANES);
+    assert_eq!(stride % tile, 0, "column tables padded to whole tiles");
+    assert!(waves.len() <= MAX_WAVES);
+    // Each wave's exponent and constants, and below each row's values, gathered where the
+    // tile loop indexes them without bounds checks.
+    let (mut exps, mut consts) = ([0u32; MAX_WAVES], [[0.0f32; 3]; MAX_WAVES]);
+    for ((e, k), wave) in exps.iter_mut().zip(&mut consts).zip(waves) {
+        *e = match wave.power {
+            Power::Int(e) => e,
+            Power::General(_) => unreachable!("excluded by `covers`"),
+        };
+        *k = [wave.amp, wave.cx, wave.cy];
+    }
     for (i, [z, nx, ny, nz]) in out.rows(n).enumerate() {
+        let mut rot = [[0.0f32; 2]; MAX_WAVES];
+        for (w, r) in rot.iter_mut().enumerate().take(waves.len()) {
+            *r = [tables.row_sin[w * m + i], tables.row_cos[w * m + i]];
+        }
         for c in (0..n).step_by(tile) {
             let mut acc = [[V::splat(0.0); 3]; K];
             for w in 0..waves.len() {
-                let row = WaveRow::new(waves, tables, w, i);
-                let cols = (&row.sa[c..c + tile], &row.ca[c..c + tile]);
-                match waves[w].power {
-                    Power::Int(e) => by_exp!(e, add_tile::<V, K, S>(&mut acc, cols, row)),
-                    Power::General(_) => unreachable!("excluded by `covers`"),
-                }
+                let at = w * stride + c;
+                let cols = (
+                    &tables.col_sin[at..at + tile],
+                    &tables.col_cos[at..at + tile],
+                );
+                // Splatted before the dispatch, so each broadcast is one load, not an FP op
+                // in every arm.
+                let ([sb, cb], [amp, cx, cy]) = (rot[w], consts[w]);
+                let b = (V::splat(sb), V::splat(cb));
+                let k = [V::splat(amp), V::splat(cx), V::splat(cy)];
+                by_exp!(exps[w], add_tile::<V, K, S>(&mut acc, cols, b, k));
             }
             let out = [&mut *z, &mut *nx, &mut *ny, &mut *nz];
-            // The tail's partial stores go through memory; kept apart, they do not make the
-            // whole tiles spill their accumulators.
+            // The tail's partial stores are kept apart so they cannot make the whole tiles
+            // spill their accumulators.
             if c + tile <= n {
                 store_tile::<V, K, S, true>(acc, out, c);
             } else {
@@ -125,20 +142,15 @@ fn store_tile<V: Vector, const K: usize, const S: bool, const WHOLE: bool>(
     }
 }
 
-/// Adds one wave with exponent `E` to a tile's accumulators; `sa`, `ca` are the tile's columns.
+/// Adds one wave with exponent `E` to a tile's accumulators: `sa`, `ca` are the tile's
+/// columns, `b` the row's half angle (sin, cos) and `k` the wave's A, cx, cy, all splatted.
 #[inline(always)]
 fn add_tile<V: Vector, const K: usize, const S: bool, const E: u32>(
     acc: &mut [[V; 3]; K],
     (sa, ca): (&[f32], &[f32]),
-    row: WaveRow,
+    b: (V, V),
+    [amp, cx, cy]: [V; 3],
 ) {
-    let [amp, cx, cy] = row.k;
-    let (b, amp, cx, cy) = (
-        (V::splat(row.sb), V::splat(row.cb)),
-        V::splat(amp),
-        V::splat(cx),
-        V::splat(cy),
-    );
     for (j, [z, dx, dy]) in acc.iter_mut().enumerate() {
         let l = j * V::LANES;
         let a = (V::load(&sa[l..]), V::load(&ca[l..]));
