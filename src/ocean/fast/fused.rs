@@ -9,11 +9,16 @@
 //! The wave loop inside a tile runs over however many waves there are (1 to `MAX_WAVES`) and
 //! dispatches each wave to its compile-time exponent once per tile, so a tile of 64 vertices
 //! (AVX-512) pays one predictable indirect branch per wave. Only exponents are monomorphised
-//! (13 of them), never wave counts or exponent combinations. Each vertex gets the per-wave
-//! path's operations in its order, so the two paths agree bit for bit on one instruction set.
+//! (13 of them), never wave counts or exponent combinations.
+//!
+//! The half angle's sin h and cos g come from the column's and the row's by angle addition,
+//! as in the per-wave loop, but with the row's larger factor taken out (see
+//! `Tables::row_scale`): h and g then cost one multiply-add each instead of two, and the factor
+//! raised to the wave's power joins the wave's constants once per row. The results differ
+//! from the per-wave loop's by rounding only.
 
 use super::phase::{Power, Tables, WaveConsts};
-use super::simd::{by_exp, dispatch, int_pow, wave_terms, ForIsa, Isa, Out};
+use super::simd::{by_exp, dispatch, int_pow, power_terms, ForIsa, Isa, Out};
 use super::vector::Vector;
 use crate::ocean::waves::MAX_WAVES;
 
@@ -79,24 +84,30 @@ fn rows<V: Vector, const K: usize, const S: bool>(step: Fused) {
         *k = [wave.amp, wave.cx, wave.cy];
     }
     for (i, [z, nx, ny, nz]) in out.rows(n).enumerate() {
-        let mut rot = [[0.0f32; 2]; MAX_WAVES];
-        for (w, r) in rot.iter_mut().enumerate().take(waves.len()) {
-            *r = [tables.row_sin[w * m + i], tables.row_cos[w * m + i]];
+        // The row's factor (see `Tables::row_scale`) goes into the wave's constants.
+        let (mut ts, mut ks, mut swap) = ([0.0f32; MAX_WAVES], consts, [false; MAX_WAVES]);
+        let per_wave = ts.iter_mut().zip(&mut ks).zip(&mut swap);
+        for (w, ((t, [amp, cx, cy]), swap)) in per_wave.enumerate().take(waves.len()) {
+            let scale = tables.row_scale[w * m + i];
+            *t = tables.row_t[w * m + i];
+            (*amp, *cx, *cy) = (*amp * scale.abs(), *cx * scale, *cy * scale);
+            *swap = scale < 0.0;
         }
         for c in (0..n).step_by(tile) {
             let mut acc = [[V::splat(0.0); 3]; K];
             for w in 0..waves.len() {
                 let at = w * stride + c;
-                let cols = (
+                let (sa, ca) = (
                     &tables.col_sin[at..at + tile],
                     &tables.col_cos[at..at + tile],
                 );
+                let cols = if swap[w] { (sa, ca) } else { (ca, sa) };
                 // Splatted before the dispatch, so each broadcast is one load, not an FP op
                 // in every arm.
-                let ([sb, cb], [amp, cx, cy]) = (rot[w], consts[w]);
-                let b = (V::splat(sb), V::splat(cb));
+                let ([amp, cx, cy], t) = (ks[w], ts[w]);
+                let t = (V::splat(t), V::splat(-t));
                 let k = [V::splat(amp), V::splat(cx), V::splat(cy)];
-                by_exp!(exps[w], add_tile::<V, K, S>(&mut acc, cols, b, k));
+                by_exp!(exps[w], add_tile::<V, K, S>(&mut acc, cols, t, k));
             }
             let out = [&mut *z, &mut *nx, &mut *ny, &mut *nz];
             // The tail's partial stores are kept apart so they cannot make the whole tiles
@@ -142,20 +153,27 @@ fn store_tile<V: Vector, const K: usize, const S: bool, const WHOLE: bool>(
     }
 }
 
-/// Adds one wave with exponent `E` to a tile's accumulators: `sa`, `ca` are the tile's
-/// columns, `b` the row's half angle (sin, cos) and `k` the wave's A, cx, cy, all splatted.
+/// Adds one wave with exponent `E` to a tile's accumulators: with the row's (t, −t) and the
+/// tile's columns (a, b) in the roles `Tables::row_scale` gives them, h and g up to the row's
+/// factor are u = a·t + b and v = b·(−t) + a; `k` is the wave's A, cx, cy with that factor.
 #[inline(always)]
 fn add_tile<V: Vector, const K: usize, const S: bool, const E: u32>(
     acc: &mut [[V; 3]; K],
-    (sa, ca): (&[f32], &[f32]),
-    b: (V, V),
+    (a, b): (&[f32], &[f32]),
+    (t, neg_t): (V, V),
     [amp, cx, cy]: [V; 3],
 ) {
     for (j, [z, dx, dy]) in acc.iter_mut().enumerate() {
         let l = j * V::LANES;
-        let a = (V::load(&sa[l..]), V::load(&ca[l..]));
-        let (t, q) = wave_terms::<V, S>(a, b, int_pow::<V, E>);
-        *z = amp.mul_add(t, *z);
+        let (a, b) = (V::load(&a[l..]), V::load(&b[l..]));
+        let u = a.mul_add(t, b);
+        let v = if S {
+            b.mul_add(neg_t, a)
+        } else {
+            V::splat(0.0)
+        };
+        let (zt, q) = power_terms::<V, S>(u, v, int_pow::<V, E>);
+        *z = amp.mul_add(zt, *z);
         if S {
             *dx = cx.mul_add(q, *dx);
             *dy = cy.mul_add(q, *dy);

@@ -106,6 +106,15 @@ pub struct Tables {
     pub row_sin: Vec<f32>,
     /// cos of the row half angle at the current t, `[wave·rows + i]`.
     pub row_cos: Vec<f32>,
+    /// For the fused loop, `[wave·rows + i]`: of the row half angle's sin/cos and cos/sin,
+    /// the one at most 1 in magnitude (t below).
+    pub row_t: Vec<f32>,
+    /// For the fused loop, `[wave·rows + i]`: |f|^(2k), f the larger of the row half angle's
+    /// cos and sin in magnitude, negated when f is the sin. With t = sin/cos of the row,
+    /// h = cos·(sa + ca·t) and g = cos·(ca − sa·t); with t = cos/sin, h = sin·(ca + sa·t) and
+    /// g = −sin·(sa − ca·t). So the factor, raised to the wave's power, moves into the wave's
+    /// constants for the row and h, g cost one multiply-add each.
+    pub row_scale: Vec<f32>,
 }
 
 impl Tables {
@@ -133,6 +142,8 @@ impl Tables {
             row_cos0: Vec::with_capacity(waves.len() * rows),
             row_sin: vec![0.0; waves.len() * rows],
             row_cos: vec![0.0; waves.len() * rows],
+            row_t: vec![0.0; waves.len() * rows],
+            row_scale: vec![0.0; waves.len() * rows],
         };
         for w in waves {
             for &x in &x[..n] {
@@ -163,10 +174,25 @@ impl Tables {
                 .zip(&self.row_cos0[range.clone()]);
             let dst = self.row_sin[range.clone()]
                 .iter_mut()
-                .zip(&mut self.row_cos[range]);
-            for ((&s0, &c0), (s, c)) in src.zip(dst) {
-                *s = (s0 * ct + c0 * st) as f32;
-                *c = (c0 * ct - s0 * st) as f32;
+                .zip(&mut self.row_cos[range.clone()]);
+            let fused = self.row_t[range.clone()]
+                .iter_mut()
+                .zip(&mut self.row_scale[range]);
+            // 2k of the wave: the power |f| is raised to (General waves never run fused).
+            let power = match wave.power {
+                Power::Int(e) => e as i32 + 2,
+                Power::General(_) => 0,
+            };
+            for (((&s0, &c0), (s, c)), (t, scale)) in src.zip(dst).zip(fused) {
+                let (sin, cos) = (s0 * ct + c0 * st, c0 * ct - s0 * st);
+                (*s, *c) = (sin as f32, cos as f32);
+                let (f, ratio, sign) = if cos.abs() >= sin.abs() {
+                    (cos, sin / cos, 1.0)
+                } else {
+                    (sin, cos / sin, -1.0)
+                };
+                *t = ratio as f32;
+                *scale = (sign * f.abs().powi(power)) as f32;
             }
         }
     }

@@ -175,8 +175,7 @@ impl<'a> WaveRow<'a> {
 
 /// One wave at one point (or one vector of points): with the vertex's half angle θ = θa + θb,
 /// h = sin θ and g = cos θ by angle addition of the column's (sa, ca) and the row's (sb, cb),
-/// returns |h|^(2k) (the height term before the amplitude) and, with `S`, |h|^(2k−2)·h·g (the
-/// slope term before its factor: cos S = 2·h·g); `pow` gives |h|^(2k−2).
+/// the height and slope terms of [`power_terms`].
 #[inline(always)]
 pub fn wave_terms<R: Real, const S: bool>(
     (sa, ca): (R, R),
@@ -184,13 +183,22 @@ pub fn wave_terms<R: Real, const S: bool>(
     pow: impl Fn(R) -> R,
 ) -> (R, R) {
     let h = sa.mul_add(cb, ca * sb);
-    if S {
-        let g = ca.mul_add(cb, -(sa * sb));
-        let p = pow(h);
-        (p * (h * h), p * (h * g))
+    let g = if S {
+        ca.mul_add(cb, -(sa * sb))
     } else {
-        (pow(h) * (h * h), R::splat(0.0))
-    }
+        R::splat(0.0)
+    };
+    power_terms::<R, S>(h, g, pow)
+}
+
+/// From h = sin θ and g = cos θ (up to a common factor): |h|^(2k), the height term before the
+/// amplitude, and with `S` |h|^(2k−2)·h·g, the slope term before its factor (cos S = 2·h·g);
+/// `pow` gives |h|^(2k−2).
+#[inline(always)]
+pub fn power_terms<R: Real, const S: bool>(h: R, g: R, pow: impl Fn(R) -> R) -> (R, R) {
+    let p = pow(h);
+    let q = if S { p * (h * g) } else { R::splat(0.0) };
+    (p * (h * h), q)
 }
 
 /// |h|^E, the power of a half-integer k (E = 2k − 2); even powers need no |·|.
