@@ -84,14 +84,19 @@ fn rows<V: Vector, const K: usize, const S: bool>(step: Fused) {
         *k = [wave.amp, wave.cx, wave.cy];
     }
     for (i, [z, nx, ny, nz]) in out.rows(n).enumerate() {
-        // The row's factor (see `Tables::row_scale`) goes into the wave's constants.
-        let (mut ts, mut ks, mut swap) = ([0.0f32; MAX_WAVES], consts, [false; MAX_WAVES]);
-        let per_wave = ts.iter_mut().zip(&mut ks).zip(&mut swap);
-        for (w, ((t, [amp, cx, cy]), swap)) in per_wave.enumerate().take(waves.len()) {
-            let scale = tables.row_scale[w * m + i];
-            *t = tables.row_t[w * m + i];
-            (*amp, *cx, *cy) = (*amp * scale.abs(), *cx * scale, *cy * scale);
-            *swap = scale < 0.0;
+        // The row's factor (see `Tables::row_scale`) goes into the wave's constants. Written
+        // element by element: copying `consts` whole would be a vector load of values just
+        // stored as scalars, which the store buffer cannot forward.
+        let (mut ts, mut ks, mut swap) = (
+            [0.0f32; MAX_WAVES],
+            [[0.0f32; 3]; MAX_WAVES],
+            [false; MAX_WAVES],
+        );
+        for w in 0..waves.len() {
+            let (scale, [amp, cx, cy]) = (tables.row_scale[w * m + i], consts[w]);
+            ts[w] = tables.row_t[w * m + i];
+            ks[w] = [amp * scale.abs(), cx * scale, cy * scale];
+            swap[w] = scale < 0.0;
         }
         for c in (0..n).step_by(tile) {
             let mut acc = [[V::splat(0.0); 3]; K];

@@ -81,6 +81,16 @@ fn half_angle(turns: f64) -> f64 {
     PI * (turns - turns.floor())
 }
 
+/// x^e for 0 <= e < 16 by squaring, with e's bits as selects (no loop, no library call).
+fn pow_small(x: f64, e: u32) -> f64 {
+    let (mut p, mut b) = (1.0, x);
+    for bit in 0..4 {
+        p *= if e >> bit & 1 == 1 { b } else { 1.0 };
+        b *= b;
+    }
+    p
+}
+
 /// Column tables (fixed for a grid) and the row values of the current step, for one band of
 /// rows (the whole grid unless the mesh is split among helpers).
 #[derive(Clone, Debug)]
@@ -180,19 +190,19 @@ impl Tables {
                 .zip(&mut self.row_scale[range]);
             // 2k of the wave: the power |f| is raised to (General waves never run fused).
             let power = match wave.power {
-                Power::Int(e) => e as i32 + 2,
+                Power::Int(e) => e + 2,
                 Power::General(_) => 0,
             };
             for (((&s0, &c0), (s, c)), (t, scale)) in src.zip(dst).zip(fused) {
                 let (sin, cos) = (s0 * ct + c0 * st, c0 * ct - s0 * st);
                 (*s, *c) = (sin as f32, cos as f32);
-                let (f, ratio, sign) = if cos.abs() >= sin.abs() {
-                    (cos, sin / cos, 1.0)
-                } else {
-                    (sin, cos / sin, -1.0)
-                };
-                *t = ratio as f32;
-                *scale = (sign * f.abs().powi(power)) as f32;
+                // Selects, no branch: which of the two is larger changes from row to row
+                // without a pattern, and this loop then vectorises.
+                let cos_larger = cos.abs() >= sin.abs();
+                let (f, other) = if cos_larger { (cos, sin) } else { (sin, cos) };
+                *t = (other / f) as f32;
+                let sign = if cos_larger { 1.0 } else { -1.0 };
+                *scale = (sign * pow_small(f.abs(), power)) as f32;
             }
         }
     }
