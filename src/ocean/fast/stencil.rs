@@ -35,6 +35,8 @@ pub struct StencilNormals {
     ndx: Vec<f32>,
     /// Each vertex's summed z terms for the row spacings in `zsum_for`.
     zsum: Vec<f32>,
+    /// Their squares, for the normalisation.
+    zsum2: Vec<f32>,
     /// Bits of the spacings (above, below) `zsum` was summed for.
     zsum_for: Option<(u32, u32)>,
 }
@@ -55,6 +57,7 @@ impl StencilNormals {
             below: Default::default(),
             ndx: Vec::new(),
             zsum: Vec::new(),
+            zsum2: Vec::new(),
             zsum_for: None,
         }
     }
@@ -70,6 +73,7 @@ impl StencilNormals {
                 *v = vec![0.0; len];
             }
             self.zsum = vec![0.0; len];
+            self.zsum2 = vec![0.0; len];
         }
         self.ndx.clear();
         self.ndx
@@ -89,9 +93,11 @@ impl StencilNormals {
         self.zsum_for = Some(key);
         let left = std::iter::once(0.0).chain(self.ndx.iter().map(|d| -d));
         let right = self.ndx.iter().map(|d| -d);
-        for ((z, l), r) in self.zsum.iter_mut().zip(left).zip(right) {
+        let sums = self.zsum.iter_mut().zip(&mut self.zsum2);
+        for ((z, z2), (l, r)) in sums.zip(left.zip(right)) {
             let (pl, pr, cl, cr) = (l * above, r * above, l * below, r * below);
             *z = pl + pr + pr + cl + cl + cr;
+            *z2 = *z * *z;
         }
     }
 }
@@ -135,6 +141,7 @@ impl ForIsa for Compute<'_> {
                 dy,
                 ndx: &s.ndx,
                 zsum: &s.zsum,
+                zsum2: &s.zsum2,
                 above: [ax, ay],
                 below: [bx, by],
                 out: [&mut nx[r.clone()], &mut ny[r.clone()], &mut nz[r]],
@@ -161,6 +168,8 @@ struct Row<'a> {
     ndx: &'a [f32],
     /// See `StencilNormals::zsum`.
     zsum: &'a [f32],
+    /// See `StencilNormals::zsum2`.
+    zsum2: &'a [f32],
     /// See `StencilNormals::above`.
     above: [&'a [f32]; 2],
     /// See `StencilNormals::below`.
@@ -208,6 +217,7 @@ fn row_normals<V: Vector, const CELLS: bool>(mut r: Row) {
     let scratch = [
         r.ndx,
         r.zsum,
+        r.zsum2,
         r.above[0],
         r.above[1],
         &*r.below[0],
@@ -259,7 +269,7 @@ fn blocks<V: Vector, const CELLS: bool, const WHOLE: bool, const U: usize>(
         }
     }
     *left = here[U - 1];
-    let mut normals = [[zero; 3]; U];
+    let mut sums = [[zero; 4]; U];
     for u in 0..U {
         let ([l1x, l1y, l2x, l2y], [t1x, t1y, t2x, t2y]) = (shifted[u], here[u]);
         let j = j + u * l;
@@ -269,13 +279,15 @@ fn blocks<V: Vector, const CELLS: bool, const WHOLE: bool, const U: usize>(
             Row::put::<V, WHOLE>(l2x + t1x + t2x, r.below[0], j);
             Row::put::<V, WHOLE>(l2y + t1y + t2y, r.below[1], j);
         }
-        normals[u] = [sx, sy, Row::get::<V, WHOLE>(r.zsum, j)];
+        let get = Row::get::<V, WHOLE>;
+        let (sz, zz) = (get(r.zsum, j), get(r.zsum2, j));
+        sums[u] = [sx, sy, sz, zz];
     }
-    for normal in &mut normals {
-        let [x, y, z] = *normal;
-        *normal = V::unit(x, y, z);
+    let mut units = [[zero; 3]; U];
+    for (unit, &[x, y, z, zz]) in units.iter_mut().zip(&sums) {
+        *unit = V::unit(x, y, z, zz);
     }
-    for (u, normal) in normals.into_iter().enumerate() {
+    for (u, normal) in units.into_iter().enumerate() {
         for (c, out) in normal.into_iter().zip(&mut r.out) {
             Row::put::<V, WHOLE>(c, out, j + u * l);
         }

@@ -40,10 +40,11 @@ pub trait Real:
         [-dx * inv, -dy * inv, inv]
     }
 
-    /// (x, y, z) scaled to unit length, as glam's `normalize_or` does it (never called on zero).
+    /// (x, y, z) scaled to unit length, as glam's `normalize_or` does it (never called on zero);
+    /// `zz` is z·z, which callers with a z known ahead compute once.
     #[inline(always)]
-    fn unit(x: Self, y: Self, z: Self) -> [Self; 3] {
-        let inv = Self::splat(1.0) / (x * x + y * y + z * z).sqrt();
+    fn unit(x: Self, y: Self, z: Self, zz: Self) -> [Self; 3] {
+        let inv = Self::splat(1.0) / (x * x + y * y + zz).sqrt();
         [x * inv, y * inv, z * inv]
     }
 }
@@ -352,9 +353,9 @@ mod x86 {
 
             /// Within an ulp of the sqrt-then-divide `unit`.
             #[inline(always)]
-            fn unit(x: Self, y: Self, z: Self) -> [Self; 3] {
+            fn unit(x: Self, y: Self, z: Self, zz: Self) -> [Self; 3] {
                 simd!({
-                    let yz = _mm512_fmadd_ps(y.0, y.0, _mm512_mul_ps(z.0, z.0));
+                    let yz = _mm512_fmadd_ps(y.0, y.0, zz.0);
                     let r = inv_sqrt(_mm512_fmadd_ps(x.0, x.0, yz), None);
                     [
                         Self(_mm512_mul_ps(x.0, r)),
