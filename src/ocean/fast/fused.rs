@@ -17,8 +17,8 @@
 //! raised to the wave's power joins the wave's constants once per row. The results differ
 //! from the per-wave loop's by rounding only.
 
-use super::phase::{Power, Tables, WaveConsts};
-use super::simd::{by_exp, dispatch, int_pow, power_terms, ForIsa, Isa, Out};
+use super::phase::{Power, WaveConsts};
+use super::simd::{by_exp, int_pow, power_terms, ForIsa, Step};
 use super::vector::Vector;
 use crate::ocean::waves::MAX_WAVES;
 
@@ -28,46 +28,27 @@ pub fn covers(waves: &[WaveConsts]) -> bool {
     waves.iter().all(|w| matches!(w.power, Power::Int(_)))
 }
 
-/// The fused step: `step` through `dispatch`.
-struct Fused<'a> {
-    waves: &'a [WaveConsts],
-    tables: &'a Tables,
-    out: Out<'a>,
-    analytic: bool,
-}
-
-/// Runs one fused step with `isa`, which the caller has checked this CPU supports; `waves`
-/// must be covered (see [`covers`]).
-pub fn step(isa: Isa, waves: &[WaveConsts], tables: &Tables, out: Out, analytic: bool) {
-    assert!(covers(waves), "fused step needs integer exponents");
-    dispatch(
-        isa,
-        Fused {
-            waves,
-            tables,
-            out,
-            analytic,
-        },
-    )
-}
+/// A step on the fused loop, for [`dispatch`](super::simd::dispatch); its waves must be
+/// covered (see [`covers`]).
+pub struct Fused<'a>(pub Step<'a>);
 
 impl ForIsa for Fused<'_> {
     type Output = ();
 
     #[inline(always)]
     fn run<const F: bool, const K: usize, V: Vector>(self) {
-        if self.analytic {
-            rows::<V, K, true>(self);
+        if self.0.analytic {
+            rows::<V, K, true>(self.0);
         } else {
-            rows::<V, K, false>(self);
+            rows::<V, K, false>(self.0);
         }
     }
 }
 
 /// Every row, tile by tile: heights and, with `S`, normals from the slopes.
 #[inline(always)]
-fn rows<V: Vector, const K: usize, const S: bool>(step: Fused) {
-    let Fused {
+fn rows<V: Vector, const K: usize, const S: bool>(step: Step) {
+    let Step {
         waves, tables, out, ..
     } = step;
     let (n, m, stride, tile) = (tables.grid.n, tables.rows, tables.stride, K * V::LANES);

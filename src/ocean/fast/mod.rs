@@ -108,15 +108,20 @@ impl FastKernel {
             )),
         };
         tables.set_time(&self.waves, t as f64);
-        let out = simd::Out {
-            z: mesh.z,
-            nx: mesh.nx,
-            ny: mesh.ny,
-            nz: mesh.nz,
+        let step = simd::Step {
+            waves: &self.waves,
+            tables,
+            out: simd::Out {
+                z: mesh.z,
+                nx: mesh.nx,
+                ny: mesh.ny,
+                nz: mesh.nz,
+            },
+            analytic: analytic_normals,
         };
         match self.path {
-            Path::Fused => fused::step(self.isa, &self.waves, tables, out, analytic_normals),
-            Path::PerWave => simd::step(self.isa, &self.waves, tables, out, analytic_normals),
+            Path::Fused => simd::dispatch(self.isa, fused::Fused(step)),
+            Path::PerWave => simd::dispatch(self.isa, simd::PerWave(step)),
         }
     }
 }

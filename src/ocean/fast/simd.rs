@@ -207,26 +207,20 @@ pub fn int_pow<R: Real, const E: u32>(h: R) -> R {
     powi::<R, E>(if E % 2 == 1 { h.abs() } else { h })
 }
 
-/// The per-wave step: `step` through `dispatch`.
-struct PerWave<'a> {
-    waves: &'a [WaveConsts],
-    tables: &'a Tables,
-    out: Out<'a>,
-    analytic: bool,
+/// One step's inputs and outputs, for either row loop.
+pub struct Step<'a> {
+    /// The enabled waves' constants.
+    pub waves: &'a [WaveConsts],
+    /// Their tables for the band `out` covers.
+    pub tables: &'a Tables,
+    /// The band's output rows.
+    pub out: Out<'a>,
+    /// Whether to fill normals from the slopes, not heights alone.
+    pub analytic: bool,
 }
 
-/// Runs one per-wave step with `isa`, which the caller has checked this CPU supports.
-pub fn step(isa: Isa, waves: &[WaveConsts], tables: &Tables, out: Out, analytic: bool) {
-    dispatch(
-        isa,
-        PerWave {
-            waves,
-            tables,
-            out,
-            analytic,
-        },
-    )
-}
+/// A step on the per-wave loop, for [`dispatch`].
+pub struct PerWave<'a>(pub Step<'a>);
 
 impl ForIsa for PerWave<'_> {
     type Output = ();
@@ -235,12 +229,12 @@ impl ForIsa for PerWave<'_> {
     /// the per-wave branch on the power kind is taken once per row, outside the vector loop.
     #[inline(always)]
     fn run<const F: bool, const K: usize, V: Vector>(self) {
-        let PerWave {
+        let Step {
             waves,
             tables,
             out,
             analytic,
-        } = self;
+        } = self.0;
         for (i, [z, nx, ny, nz]) in out.rows(tables.grid.n).enumerate() {
             z.fill(0.0);
             if analytic {
@@ -265,8 +259,9 @@ impl ForIsa for PerWave<'_> {
 }
 
 /// Adds one wave to a row: z and, with `S`, the slopes in `dx`, `dy`. Each output is read
-/// just before it is written: the mesh's arrays are page-aligned, so reading ahead would not
-/// change which loads wait on 4K-aliased stores, and this is the order today's timings have.
+/// just before it is written, as on main: this loop is the baseline the fused one is measured
+/// against, so it keeps today's memory order, though reading all three first would avoid the
+/// 4K-aliasing stalls between the page-aligned mesh arrays (see docs/performance.md).
 #[inline(always)]
 fn add_row<const F: bool, const S: bool>(
     row: WaveRow,

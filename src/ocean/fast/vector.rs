@@ -136,55 +136,37 @@ pub trait Vector: Real {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Lane<const F: bool>(pub f32);
 
-/// The std::ops impls of a `Real` type (impl generics in brackets) from one expression per
+/// The std::ops impls of a `Real` type (impl generics in braces) from one expression per
 /// operator, `$a`/`$b` the operands' inner values.
 macro_rules! ops {
-    ([$($gen:tt)*] $t:ty, $a:ident, $b:ident, add: $add:expr, sub: $sub:expr, mul: $mul:expr, div: $div:expr,
-     neg: $neg:expr) => {
-        impl<$($gen)*> Add for $t {
-            type Output = Self;
-            #[inline(always)]
-            fn add(self, rhs: Self) -> Self {
-                let ($a, $b) = (self.0, rhs.0);
-                Self($add)
-            }
-        }
-        impl<$($gen)*> Sub for $t {
-            type Output = Self;
-            #[inline(always)]
-            fn sub(self, rhs: Self) -> Self {
-                let ($a, $b) = (self.0, rhs.0);
-                Self($sub)
-            }
-        }
-        impl<$($gen)*> Mul for $t {
-            type Output = Self;
-            #[inline(always)]
-            fn mul(self, rhs: Self) -> Self {
-                let ($a, $b) = (self.0, rhs.0);
-                Self($mul)
-            }
-        }
-        impl<$($gen)*> Div for $t {
-            type Output = Self;
-            #[inline(always)]
-            fn div(self, rhs: Self) -> Self {
-                let ($a, $b) = (self.0, rhs.0);
-                Self($div)
-            }
-        }
-        impl<$($gen)*> Neg for $t {
+    ($gen:tt $t:ty, $a:ident, $b:ident, neg: $neg:expr; $($op:ident $f:ident: $e:expr),+) => {
+        $(ops!(@binary $gen $t, $a, $b, $op $f: $e);)+
+        ops!(@impl $gen Neg for $t {
             type Output = Self;
             #[inline(always)]
             fn neg(self) -> Self {
                 let $a = self.0;
                 Self($neg)
             }
-        }
+        });
+    };
+    (@binary $gen:tt $t:ty, $a:ident, $b:ident, $op:ident $f:ident: $e:expr) => {
+        ops!(@impl $gen $op for $t {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, rhs: Self) -> Self {
+                let ($a, $b) = (self.0, rhs.0);
+                Self($e)
+            }
+        });
+    };
+    (@impl {$($gen:tt)*} $tr:ident for $t:ty { $($body:tt)* }) => {
+        impl<$($gen)*> $tr for $t { $($body)* }
     };
 }
 
-ops!([const F: bool] Lane<F>, a, b, add: a + b, sub: a - b, mul: a * b, div: a / b, neg: -a);
+ops!({const F: bool} Lane<F>, a, b, neg: -a;
+    Add add: a + b, Sub sub: a - b, Mul mul: a * b, Div div: a / b);
 
 impl<const F: bool> Real for Lane<F> {
     #[inline(always)]
@@ -262,11 +244,12 @@ mod x86 {
             #[derive(Clone, Copy, Debug)]
             pub struct $name($raw);
 
-            ops!([] $name, a, b, add: simd!($add(a, b)), sub: simd!($sub(a, b)),
-                mul: simd!($mul(a, b)), div: simd!($div(a, b)), neg: {
+            ops!({} $name, a, b, neg: {
                     let $w = a;
                     simd!($neg)
-                });
+                };
+                Add add: simd!($add(a, b)), Sub sub: simd!($sub(a, b)),
+                Mul mul: simd!($mul(a, b)), Div div: simd!($div(a, b)));
 
             impl Real for $name {
                 #[inline(always)]
