@@ -107,7 +107,7 @@ impl FastKernel {
                 mesh.y,
             )),
         };
-        tables.set_time(&self.waves, t as f64);
+        tables.set_time(&self.waves, t as f64, self.path == Path::Fused);
         let step = simd::Step {
             waves: &self.waves,
             tables,

@@ -173,29 +173,36 @@ impl Tables {
         t
     }
 
-    /// Rotates every row half angle by the time phase of `t` (one f64 sin/cos per wave).
-    pub fn set_time(&mut self, waves: &[WaveConsts], t: f64) {
+    /// Rotates every row half angle by the time phase of `t` (one f64 sin/cos per wave), into
+    /// the row values the row loop in use reads: `row_sin`, `row_cos` for the per-wave loop,
+    /// `row_t`, `row_scale` for the fused one (`fused`).
+    pub fn set_time(&mut self, waves: &[WaveConsts], t: f64, fused: bool) {
         let m = self.rows;
         for (w, wave) in waves.iter().enumerate() {
             let (st, ct) = half_angle(wave.time_turns * t).sin_cos();
             let range = w * m..(w + 1) * m;
-            let src = self.row_sin0[range.clone()]
+            let rows = self.row_sin0[range.clone()]
                 .iter()
-                .zip(&self.row_cos0[range.clone()]);
-            let dst = self.row_sin[range.clone()]
-                .iter_mut()
-                .zip(&mut self.row_cos[range.clone()]);
-            let fused = self.row_t[range.clone()]
-                .iter_mut()
-                .zip(&mut self.row_scale[range]);
+                .zip(&self.row_cos0[range.clone()])
+                .map(|(&s0, &c0)| (s0 * ct + c0 * st, c0 * ct - s0 * st));
+            if !fused {
+                let dst = self.row_sin[range.clone()]
+                    .iter_mut()
+                    .zip(&mut self.row_cos[range]);
+                for ((sin, cos), (s, c)) in rows.zip(dst) {
+                    (*s, *c) = (sin as f32, cos as f32);
+                }
+                continue;
+            }
             // 2k of the wave: the power |f| is raised to (General waves never run fused).
             let power = match wave.power {
                 Power::Int(e) => e + 2,
                 Power::General(_) => 0,
             };
-            for (((&s0, &c0), (s, c)), (t, scale)) in src.zip(dst).zip(fused) {
-                let (sin, cos) = (s0 * ct + c0 * st, c0 * ct - s0 * st);
-                (*s, *c) = (sin as f32, cos as f32);
+            let dst = self.row_t[range.clone()]
+                .iter_mut()
+                .zip(&mut self.row_scale[range]);
+            for ((sin, cos), (t, scale)) in rows.zip(dst) {
                 // Selects, no branch: which of the two is larger changes from row to row
                 // without a pattern, and this loop then vectorises.
                 let cos_larger = cos.abs() >= sin.abs();
