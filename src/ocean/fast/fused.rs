@@ -17,8 +17,10 @@
 //! raised to the wave's power joins the wave's constants once per row. The results differ
 //! from the per-wave loop's by rounding only.
 
+use super::math::powi;
 use super::phase::{Power, WaveConsts};
-use super::simd::{by_exp, int_pow, power_terms, ForIsa, Step};
+use super::simd::{by_exp, ForIsa, Step};
+use super::vector::Real;
 use super::vector::Vector;
 use crate::ocean::waves::MAX_WAVES;
 
@@ -165,4 +167,20 @@ fn add_tile<V: Vector, const K: usize, const S: bool, const E: u32>(
             *dy = cy.mul_add(q, *dy);
         }
     }
+}
+
+/// From h = sin θ and g = cos θ (up to a common factor): |h|^(2k), the height term before the
+/// amplitude, and with `S` |h|^(2k−2)·h·g, the slope term before its factor (cos S = 2·h·g);
+/// `pow` gives |h|^(2k−2).
+#[inline(always)]
+fn power_terms<R: Real, const S: bool>(h: R, g: R, pow: impl Fn(R) -> R) -> (R, R) {
+    let p = pow(h);
+    let q = if S { p * (h * g) } else { R::splat(0.0) };
+    (p * (h * h), q)
+}
+
+/// |h|^E, the power of a half-integer k (E = 2k − 2); even powers need no |·|.
+#[inline(always)]
+fn int_pow<R: Real, const E: u32>(h: R) -> R {
+    powi::<R, E>(if E % 2 == 1 { h.abs() } else { h })
 }

@@ -81,6 +81,43 @@ fn half_angle(turns: f64) -> f64 {
     PI * (turns - turns.floor())
 }
 
+/// f32s starting on a 64-byte boundary: a whole-vector load from the start of a cache line
+/// never straddles two, which on the AVX-512 machine measured costs 1.7 cycles instead of 1.
+#[derive(Debug, Default)]
+pub struct Aligned {
+    buf: Vec<f32>,
+    start: usize,
+    len: usize,
+}
+
+impl Aligned {
+    /// The values of `values`, aligned.
+    pub fn from_slice(values: &[f32]) -> Aligned {
+        let mut buf = vec![0.0; values.len() + 15];
+        let start = buf.as_ptr().align_offset(64).min(15);
+        buf[start..start + values.len()].copy_from_slice(values);
+        Aligned {
+            buf,
+            start,
+            len: values.len(),
+        }
+    }
+}
+
+impl Clone for Aligned {
+    /// A new buffer, aligned in its own right.
+    fn clone(&self) -> Self {
+        Aligned::from_slice(self)
+    }
+}
+
+impl std::ops::Deref for Aligned {
+    type Target = [f32];
+    fn deref(&self) -> &[f32] {
+        &self.buf[self.start..self.start + self.len]
+    }
+}
+
 /// x^e for 0 <= e < 16 by squaring, with e's bits as selects (no loop, no library call).
 fn pow_small(x: f64, e: u32) -> f64 {
     let (mut p, mut b) = (1.0, x);
@@ -104,9 +141,9 @@ pub struct Tables {
     /// Entries per wave in the column tables: n rounded up to a multiple of `COL_PAD`.
     pub stride: usize,
     /// sin of the column half angle, `[wave·stride + j]`.
-    pub col_sin: Vec<f32>,
+    pub col_sin: Aligned,
     /// cos of the column half angle, `[wave·stride + j]`.
-    pub col_cos: Vec<f32>,
+    pub col_cos: Aligned,
     /// sin of the row half angle at t = 0 (π/4 included), `[wave·rows + i]`, kept in f64 so the
     /// per-step rotation by the time phase adds no f32 error.
     row_sin0: Vec<f64>,
@@ -141,35 +178,37 @@ impl Tables {
         let n = grid.n;
         let rows = y.len() / n;
         let stride = n.next_multiple_of(COL_PAD);
-        let mut t = Tables {
+        let (mut col_sin, mut col_cos) = (Vec::new(), Vec::new());
+        let (mut row_sin0, mut row_cos0) = (Vec::new(), Vec::new());
+        for w in waves {
+            for &x in &x[..n] {
+                let (s, c) = half_angle(w.col_turns * x as f64).sin_cos();
+                col_sin.push(s as f32);
+                col_cos.push(c as f32);
+            }
+            col_sin.resize(col_sin.len() + stride - n, 0.0);
+            col_cos.resize(col_cos.len() + stride - n, 0.0);
+            for i in 0..rows {
+                let y = y[i * n] as f64;
+                let (s, c) = (half_angle(w.row_turns * y) + FRAC_PI_4).sin_cos();
+                row_sin0.push(s);
+                row_cos0.push(c);
+            }
+        }
+        let t = Tables {
             grid,
             first_row,
             rows,
             stride,
-            col_sin: Vec::with_capacity(waves.len() * stride),
-            col_cos: Vec::with_capacity(waves.len() * stride),
-            row_sin0: Vec::with_capacity(waves.len() * rows),
-            row_cos0: Vec::with_capacity(waves.len() * rows),
+            col_sin: Aligned::from_slice(&col_sin),
+            col_cos: Aligned::from_slice(&col_cos),
+            row_sin0,
+            row_cos0,
             row_sin: vec![0.0; waves.len() * rows],
             row_cos: vec![0.0; waves.len() * rows],
             row_t: vec![0.0; waves.len() * rows],
             row_scale: vec![0.0; waves.len() * rows],
         };
-        for w in waves {
-            for &x in &x[..n] {
-                let (s, c) = half_angle(w.col_turns * x as f64).sin_cos();
-                t.col_sin.push(s as f32);
-                t.col_cos.push(c as f32);
-            }
-            t.col_sin.resize(t.col_sin.len() + stride - n, 0.0);
-            t.col_cos.resize(t.col_cos.len() + stride - n, 0.0);
-            for i in 0..rows {
-                let y = y[i * n] as f64;
-                let (s, c) = (half_angle(w.row_turns * y) + FRAC_PI_4).sin_cos();
-                t.row_sin0.push(s);
-                t.row_cos0.push(c);
-            }
-        }
         t
     }
 

@@ -8,11 +8,11 @@
 //! vectorises; they cover every exponent and are the baseline the fused loop is measured
 //! against.
 
-use super::math::{pow_abs, powi};
+use super::math::{fma, pow_abs, powi};
 use super::phase::{Power, Tables, WaveConsts};
 #[cfg(target_arch = "x86_64")]
 use super::vector::{Avx2, Avx512};
-use super::vector::{Lane, Portable, Real, Vector};
+use super::vector::{Lane, Portable, Vector};
 
 /// The instruction set a fast kernel runs with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -141,72 +141,6 @@ macro_rules! by_exp {
 }
 pub(super) use by_exp;
 
-/// One wave's inputs along one row: its column tables (`stride` long, padding included), its
-/// row values and its constants.
-#[derive(Clone, Copy)]
-pub struct WaveRow<'a> {
-    /// sin of the column half angles.
-    pub sa: &'a [f32],
-    /// cos of the column half angles.
-    pub ca: &'a [f32],
-    /// sin of the row half angle.
-    pub sb: f32,
-    /// cos of the row half angle.
-    pub cb: f32,
-    /// Amplitude and the slope factors: A, cx, cy.
-    pub k: [f32; 3],
-}
-
-impl<'a> WaveRow<'a> {
-    /// Wave `w` along row `i` of the band `tables` covers.
-    #[inline(always)]
-    pub fn new(waves: &[WaveConsts], tables: &'a Tables, w: usize, i: usize) -> Self {
-        let (stride, m, wave) = (tables.stride, tables.rows, &waves[w]);
-        let cols = w * stride..(w + 1) * stride;
-        WaveRow {
-            sa: &tables.col_sin[cols.clone()],
-            ca: &tables.col_cos[cols],
-            sb: tables.row_sin[w * m + i],
-            cb: tables.row_cos[w * m + i],
-            k: [wave.amp, wave.cx, wave.cy],
-        }
-    }
-}
-
-/// One wave at one point (or one vector of points): with the vertex's half angle θ = θa + θb,
-/// h = sin θ and g = cos θ by angle addition of the column's (sa, ca) and the row's (sb, cb),
-/// the height and slope terms of [`power_terms`].
-#[inline(always)]
-pub fn wave_terms<R: Real, const S: bool>(
-    (sa, ca): (R, R),
-    (sb, cb): (R, R),
-    pow: impl Fn(R) -> R,
-) -> (R, R) {
-    let h = sa.mul_add(cb, ca * sb);
-    let g = if S {
-        ca.mul_add(cb, -(sa * sb))
-    } else {
-        R::splat(0.0)
-    };
-    power_terms::<R, S>(h, g, pow)
-}
-
-/// From h = sin θ and g = cos θ (up to a common factor): |h|^(2k), the height term before the
-/// amplitude, and with `S` |h|^(2k−2)·h·g, the slope term before its factor (cos S = 2·h·g);
-/// `pow` gives |h|^(2k−2).
-#[inline(always)]
-pub fn power_terms<R: Real, const S: bool>(h: R, g: R, pow: impl Fn(R) -> R) -> (R, R) {
-    let p = pow(h);
-    let q = if S { p * (h * g) } else { R::splat(0.0) };
-    (p * (h * h), q)
-}
-
-/// |h|^E, the power of a half-integer k (E = 2k − 2); even powers need no |·|.
-#[inline(always)]
-pub fn int_pow<R: Real, const E: u32>(h: R) -> R {
-    powi::<R, E>(if E % 2 == 1 { h.abs() } else { h })
-}
-
 /// One step's inputs and outputs, for either row loop.
 pub struct Step<'a> {
     /// The enabled waves' constants.
@@ -227,6 +161,8 @@ impl ForIsa for PerWave<'_> {
 
     /// Row by row, wave by wave: the row's outputs stay in L1 while every wave adds to them, and
     /// the per-wave branch on the power kind is taken once per row, outside the vector loop.
+    /// This and the loops below are main's per-wave kernel as it was, the baseline the fused
+    /// loop is measured against: only the table stride and the dispatch around it changed.
     #[inline(always)]
     fn run<const F: bool, const K: usize, V: Vector>(self) {
         let Step {
@@ -235,20 +171,25 @@ impl ForIsa for PerWave<'_> {
             out,
             analytic,
         } = self.0;
-        for (i, [z, nx, ny, nz]) in out.rows(tables.grid.n).enumerate() {
+        let (n, m, stride) = (tables.grid.n, tables.rows, tables.stride);
+        for (i, [z, nx, ny, nz]) in out.rows(n).enumerate() {
             z.fill(0.0);
             if analytic {
                 nx.fill(0.0);
                 ny.fill(0.0);
             }
-            for w in 0..waves.len() {
-                let row = WaveRow::new(waves, tables, w, i);
-                let (z, dx, dy) = (&mut *z, &mut *nx, &mut *ny);
-                match (analytic, waves[w].power) {
-                    (false, Power::Int(e)) => by_exp!(e, row_int::<F, false>(row, z, dx, dy)),
-                    (true, Power::Int(e)) => by_exp!(e, row_int::<F, true>(row, z, dx, dy)),
-                    (false, Power::General(e)) => row_gen::<F, false>(row, e, z, dx, dy),
-                    (true, Power::General(e)) => row_gen::<F, true>(row, e, z, dx, dy),
+            for (w, wave) in waves.iter().enumerate() {
+                let sa = &tables.col_sin[w * stride..w * stride + n];
+                let ca = &tables.col_cos[w * stride..w * stride + n];
+                let (sb, cb) = (tables.row_sin[w * m + i], tables.row_cos[w * m + i]);
+                let a = wave.amp;
+                match (analytic, wave.power) {
+                    (false, Power::Int(e)) => by_exp!(e, heights_int::<F>(sa, ca, sb, cb, a, z)),
+                    (false, Power::General(e)) => heights_gen::<F>(sa, ca, sb, cb, a, e, z),
+                    (true, Power::Int(e)) => {
+                        by_exp!(e, full_int::<F>(sa, ca, sb, cb, wave, z, nx, ny))
+                    }
+                    (true, Power::General(e)) => full_gen::<F>(sa, ca, sb, cb, wave, e, z, nx, ny),
                 }
             }
             if analytic {
@@ -258,57 +199,100 @@ impl ForIsa for PerWave<'_> {
     }
 }
 
-/// Adds one wave to a row: z and, with `S`, the slopes in `dx`, `dy`. Each output is read
-/// just before it is written, as on main: this loop is the baseline the fused one is measured
-/// against, so it keeps today's memory order, though reading all three first would avoid the
-/// 4K-aliasing stalls between the page-aligned mesh arrays (see docs/performance.md).
+/// sin θ of one vertex by angle addition of the column and row half angles.
 #[inline(always)]
-fn add_row<const F: bool, const S: bool>(
-    row: WaveRow,
+fn half_sin<const F: bool>(sa: f32, ca: f32, sb: f32, cb: f32) -> f32 {
+    fma::<F>(sa, cb, ca * sb)
+}
+
+/// cos θ of one vertex by angle addition.
+#[inline(always)]
+fn half_cos<const F: bool>(sa: f32, ca: f32, sb: f32, cb: f32) -> f32 {
+    fma::<F>(ca, cb, -(sa * sb))
+}
+
+/// Adds A·|h|^(E+2) = A·((sin S + 1)/2)^k to a row of heights.
+#[inline(always)]
+fn heights_int<const F: bool, const E: u32>(
+    sa: &[f32],
+    ca: &[f32],
+    sb: f32,
+    cb: f32,
+    amp: f32,
     z: &mut [f32],
-    dx: &mut [f32],
-    dy: &mut [f32],
-    pow: impl Fn(Lane<F>) -> Lane<F>,
 ) {
-    let (b, [amp, cx, cy]) = ((Lane(row.sb), Lane(row.cb)), row.k.map(Lane));
-    let cols = row.sa[..z.len()].iter().zip(&row.ca[..z.len()]);
-    // Heights alone stream three arrays, not five: the vectoriser then needs no overlap checks
-    // against the slopes.
-    if S {
-        let outs = z.iter_mut().zip(dx.iter_mut()).zip(dy.iter_mut());
-        for (((z, dx), dy), (&sa, &ca)) in outs.zip(cols) {
-            let (t, q) = wave_terms::<_, true>((Lane(sa), Lane(ca)), b, &pow);
-            *z = amp.mul_add(t, Lane(*z)).0;
-            *dx = cx.mul_add(q, Lane(*dx)).0;
-            *dy = cy.mul_add(q, Lane(*dy)).0;
-        }
-    } else {
-        for (z, (&sa, &ca)) in z.iter_mut().zip(cols) {
-            let (t, _) = wave_terms::<_, false>((Lane(sa), Lane(ca)), b, &pow);
-            *z = amp.mul_add(t, Lane(*z)).0;
-        }
+    for ((z, &sa), &ca) in z.iter_mut().zip(sa).zip(ca) {
+        let h = half_sin::<F>(sa, ca, sb, cb);
+        *z = fma::<F>(amp, powi::<Lane<F>, E>(Lane(h.abs())).0 * (h * h), *z);
     }
 }
 
-/// `add_row` for a half-integer k, exponent E = 2k − 2.
+/// `heights_int` for any exponent e = 2k − 2.
 #[inline(always)]
-fn row_int<const F: bool, const S: bool, const E: u32>(
-    row: WaveRow,
+fn heights_gen<const F: bool>(
+    sa: &[f32],
+    ca: &[f32],
+    sb: f32,
+    cb: f32,
+    amp: f32,
+    e: f32,
+    z: &mut [f32],
+) {
+    for ((z, &sa), &ca) in z.iter_mut().zip(sa).zip(ca) {
+        let h = half_sin::<F>(sa, ca, sb, cb);
+        *z = fma::<F>(amp, pow_abs::<F>(h, e) * (h * h), *z);
+    }
+}
+
+/// Adds one wave's height and slope (cos S = 2·sin θ·cos θ) to a row.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn full_int<const F: bool, const E: u32>(
+    sa: &[f32],
+    ca: &[f32],
+    sb: f32,
+    cb: f32,
+    wave: &WaveConsts,
     z: &mut [f32],
     dx: &mut [f32],
     dy: &mut [f32],
 ) {
-    add_row::<F, S>(row, z, dx, dy, int_pow::<Lane<F>, E>)
+    let (amp, cx, cy) = (wave.amp, wave.cx, wave.cy);
+    let outs = z.iter_mut().zip(dx.iter_mut()).zip(dy.iter_mut());
+    for (((z, dx), dy), (&sa, &ca)) in outs.zip(sa.iter().zip(ca)) {
+        let h = half_sin::<F>(sa, ca, sb, cb);
+        let g = half_cos::<F>(sa, ca, sb, cb);
+        let p = powi::<Lane<F>, E>(Lane(h.abs())).0;
+        *z = fma::<F>(amp, p * (h * h), *z);
+        let q = p * (h * g);
+        *dx = fma::<F>(cx, q, *dx);
+        *dy = fma::<F>(cy, q, *dy);
+    }
 }
 
-/// `add_row` for any exponent e = 2k − 2 (polynomial exp and log).
+/// `full_int` for any exponent e = 2k − 2.
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn row_gen<const F: bool, const S: bool>(
-    row: WaveRow,
+fn full_gen<const F: bool>(
+    sa: &[f32],
+    ca: &[f32],
+    sb: f32,
+    cb: f32,
+    wave: &WaveConsts,
     e: f32,
     z: &mut [f32],
     dx: &mut [f32],
     dy: &mut [f32],
 ) {
-    add_row::<F, S>(row, z, dx, dy, |h| Lane(pow_abs::<F>(h.0, e)))
+    let (amp, cx, cy) = (wave.amp, wave.cx, wave.cy);
+    let outs = z.iter_mut().zip(dx.iter_mut()).zip(dy.iter_mut());
+    for (((z, dx), dy), (&sa, &ca)) in outs.zip(sa.iter().zip(ca)) {
+        let h = half_sin::<F>(sa, ca, sb, cb);
+        let g = half_cos::<F>(sa, ca, sb, cb);
+        let p = pow_abs::<F>(h, e);
+        *z = fma::<F>(amp, p * (h * h), *z);
+        let q = p * (h * g);
+        *dx = fma::<F>(cx, q, *dx);
+        *dy = fma::<F>(cy, q, *dy);
+    }
 }
