@@ -195,7 +195,7 @@ impl Tables {
                 row_cos0.push(c);
             }
         }
-        let t = Tables {
+        Tables {
             grid,
             first_row,
             rows,
@@ -208,8 +208,7 @@ impl Tables {
             row_cos: vec![0.0; waves.len() * rows],
             row_t: vec![0.0; waves.len() * rows],
             row_scale: vec![0.0; waves.len() * rows],
-        };
-        t
+        }
     }
 
     /// Rotates every row half angle by the time phase of `t` (one f64 sin/cos per wave), into
