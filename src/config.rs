@@ -2,10 +2,10 @@
 //! defaults that reproduce Figure 5-1 and validation that names the field and what is allowed.
 
 use crate::affinity;
-use crate::frame_loop::{check_helpers, Budget, Mode, Threading};
-use crate::ocean::{mesh, normals, Grid, Kernel, Mesh, NormalMethod, Wave, WaveSet};
+use crate::cell::{Axes, CellKey};
+use crate::frame_loop::{check_helpers, Budget, Mode};
+use crate::ocean::{mesh, normals, Grid, Mesh, NormalMethod, Wave, WaveSet};
 use crate::suggest;
-use crate::sync::SyncMethod;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -78,32 +78,18 @@ impl Level {
     }
 }
 
-/// A sweep: every key that is a list is swept; a key left out takes the Figure 5-1 default.
+/// A sweep: the lists of [`Axes`] are crossed into cells; every other key sets how the cells
+/// are measured. A key left out takes the Figure 5-1 default.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(default)]
 pub struct SweepConfig {
     /// Names the results directory.
     pub name: String,
     /// Free text recorded with the results.
-    #[serde(skip_serializing_if = "String::is_empty")]
     pub description: String,
-    /// Mesh sizes N (N×N vertices).
-    pub sizes: Vec<usize>,
-    /// Workload indices into `workload_levels`.
-    pub workloads: Vec<usize>,
-    /// serial, up, dp.
-    pub modes: Vec<Mode>,
-    /// Hand-off methods (threaded modes).
-    pub sync: Vec<SyncMethod>,
-    /// Helper threading models (threaded modes).
-    pub threading: Vec<Threading>,
-    /// Normal methods.
-    pub normals: Vec<NormalMethod>,
-    /// Kernels.
-    pub kernel: Vec<Kernel>,
-    /// Helper counts the mesh's rows are split among (threaded modes; more than 1 needs
-    /// threading `pool` and normals `analytic`).
-    pub helpers: Vec<usize>,
+    /// The swept lists, one per dimension of a cell, under their own keys.
+    #[serde(flatten)]
+    pub axes: Axes,
     /// Trials per cell.
     pub trials: u32,
     /// Frames thrown away before each trial.
@@ -121,18 +107,14 @@ pub struct SweepConfig {
     /// Simulated seconds per frame.
     pub time_step: f64,
     /// The waves (default: the built-in deep-ocean set).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub waves: Option<Vec<Wave>>,
     /// A waves file, instead of `waves`.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub waves_file: Option<PathBuf>,
     /// Cores for main and helper: [main] or [main, helper] (default: the first allowed).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub cores: Option<Vec<usize>>,
     /// Seconds a hand-off wait may take before the cell is aborted.
     pub timeout_seconds: f64,
     /// Fault injection for testing timeouts: every helper stops producing at this frame.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub inject_stall_at_frame: Option<u64>,
 }
 
@@ -141,14 +123,7 @@ impl Default for SweepConfig {
         SweepConfig {
             name: "figure-5-1".into(),
             description: String::new(),
-            sizes: vec![40, 128, 256],
-            workloads: vec![0, 1, 2, 3],
-            modes: vec![Mode::Serial, Mode::Up, Mode::Dp],
-            sync: vec![SyncMethod::Atomic, SyncMethod::Mutex, SyncMethod::Condvar],
-            threading: vec![Threading::Pool],
-            normals: vec![NormalMethod::Neighbors],
-            kernel: vec![Kernel::Reference],
-            helpers: vec![1],
+            axes: Axes::default(),
             trials: 5,
             warmup_frames: 20,
             min_frames: 60,
@@ -177,14 +152,26 @@ pub fn default_levels() -> Vec<Level> {
     ]
 }
 
-/// Parses a JSON object into `T`; errors name the field path (`modes[1]: unknown variant ...`).
-fn parse_object<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, InputError> {
+/// Parses a config object. Unknown keys are refused with the closest known one (the keys are
+/// those a default config writes), each dimension's list is parsed alone so that an error names
+/// its place (`modes[1]: ...`), and other fields' errors carry their path.
+fn parse_config(text: &str) -> Result<SweepConfig, InputError> {
     let value: serde_json::Value =
         serde_json::from_str(text).map_err(|e| InputError(format!("not valid JSON: {e}")))?;
-    if !value.is_object() {
+    let Some(object) = value.as_object() else {
         return Err(InputError(
             "must be a JSON object such as {\"sizes\": [40, 128]}".into(),
         ));
+    };
+    let known = SweepConfig::keys();
+    for (key, list) in object {
+        if !known.iter().any(|k| k == key) {
+            let known: Vec<&str> = known.iter().map(String::as_str).collect();
+            return Err(InputError(suggest::unknown("field", key, &known)));
+        }
+        if let Some(parsed) = Axes::parse_key(key, list.clone()) {
+            parsed.map_err(InputError)?;
+        }
     }
     serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
@@ -200,8 +187,7 @@ fn parse_object<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, InputEr
 impl SweepConfig {
     /// Parses a config file's text and validates it.
     pub fn from_json(text: &str) -> Result<Self, InputError> {
-        let config: SweepConfig =
-            parse_object(text).map_err(|e| InputError(format!("config: {e}")))?;
+        let config = parse_config(text).map_err(|e| InputError(format!("config: {e}")))?;
         config.validate()?;
         Ok(config)
     }
@@ -212,7 +198,7 @@ impl SweepConfig {
         let text = std::fs::read_to_string(path)
             .map_err(|e| InputError(format!("config {}: {e}", path.display())))?;
         let in_file = |e: InputError| InputError(format!("{}: {e}", path.display()));
-        let mut config: SweepConfig = parse_object(&text).map_err(in_file)?;
+        let mut config = parse_config(&text).map_err(in_file)?;
         if let (Some(file), Some(dir)) = (&config.waves_file, path.parent()) {
             if file.is_relative() {
                 config.waves_file = Some(dir.join(file));
@@ -227,6 +213,14 @@ impl SweepConfig {
         }
         config.validate().map_err(in_file)?;
         Ok(config)
+    }
+
+    /// Every key a config may have, in the order a config is written.
+    pub fn keys() -> Vec<String> {
+        match serde_json::to_value(SweepConfig::default()) {
+            Ok(serde_json::Value::Object(map)) => map.keys().cloned().collect(),
+            _ => unreachable!("a config serialises as an object"),
+        }
     }
 
     /// The wave set the config asks for.
@@ -257,7 +251,7 @@ impl SweepConfig {
     /// allowed cores.
     pub fn placement(&self) -> Result<[usize; 2], InputError> {
         let allowed = affinity::allowed_cores();
-        let needs_two = self.modes.contains(&Mode::Dp);
+        let needs_two = self.axes.modes.contains(&Mode::Dp);
         let cores = match &self.cores {
             Some(c) => {
                 affinity::check_allowed(c)?;
@@ -292,24 +286,6 @@ impl SweepConfig {
 
     /// Checks every field before anything runs.
     pub fn validate(&self) -> Result<(), InputError> {
-        fn non_empty<T>(field: &str, list: &[T]) -> Result<(), InputError> {
-            if list.is_empty() {
-                Err(InputError(format!("{field}: must list at least one value")))
-            } else {
-                Ok(())
-            }
-        }
-        fn no_repeats<T: PartialEq + std::fmt::Debug>(
-            field: &str,
-            list: &[T],
-        ) -> Result<(), InputError> {
-            for (i, v) in list.iter().enumerate() {
-                if list[..i].contains(v) {
-                    return Err(InputError(format!("{field}: {v:?} is listed twice")));
-                }
-            }
-            Ok(())
-        }
         if self.name.is_empty()
             || !self
                 .name
@@ -321,53 +297,23 @@ impl SweepConfig {
                 self.name
             )));
         }
-        non_empty("sizes", &self.sizes)?;
-        non_empty("workloads", &self.workloads)?;
-        non_empty("modes", &self.modes)?;
-        non_empty("sync", &self.sync)?;
-        non_empty("threading", &self.threading)?;
-        non_empty("normals", &self.normals)?;
-        non_empty("kernel", &self.kernel)?;
-        non_empty("helpers", &self.helpers)?;
-        non_empty("workload_levels", &self.workload_levels)?;
-        no_repeats("sizes", &self.sizes)?;
-        no_repeats("workloads", &self.workloads)?;
-        no_repeats("modes", &self.modes)?;
-        no_repeats("sync", &self.sync)?;
-        no_repeats("threading", &self.threading)?;
-        no_repeats("normals", &self.normals)?;
-        no_repeats("kernel", &self.kernel)?;
-        no_repeats("helpers", &self.helpers)?;
-        self.check_helpers()?;
+        self.axes.check().map_err(InputError)?;
+        if self.workload_levels.is_empty() {
+            return Err(InputError(
+                "workload_levels: must list at least one value".into(),
+            ));
+        }
         if !(self.spacing.is_finite() && self.spacing > 0.0) {
             return Err(InputError(format!(
                 "spacing: must be a finite number > 0, got {}",
                 self.spacing
             )));
         }
-        for &n in &self.sizes {
-            if !(2..=mesh::MAX_SIZE).contains(&n) {
-                return Err(InputError(format!(
-                    "sizes: {n} is not allowed; sizes are 2 to {}",
-                    mesh::MAX_SIZE
-                )));
-            }
-            let grid = Grid::new(n, self.spacing)?;
-            if self.normals.contains(&NormalMethod::Lookup)
-                && normals::lookup_work(n) > normals::LOOKUP_MAX_WORK
-            {
-                return Err(InputError(format!(
-                    "normals: `lookup` at size {n} would take over a second per frame \
-                     (the paper's O(n²) search); use sizes <= {} with lookup",
-                    normals::lookup_max_size()
-                )));
-            }
-            check_memory(grid)?;
-        }
         for (i, level) in self.workload_levels.iter().enumerate() {
             level.validate(i)?;
         }
         if let Some(&w) = self
+            .axes
             .workloads
             .iter()
             .find(|&&w| w >= self.workload_levels.len())
@@ -417,27 +363,34 @@ impl SweepConfig {
         }
         self.wave_set()?;
         self.placement()?;
+        for &size in &self.axes.sizes {
+            check_memory(Grid::new(size, self.spacing)?)?;
+        }
+        for key in self.axes.cells() {
+            check_cell(&key)?;
+        }
         Ok(())
     }
 }
 
-impl SweepConfig {
-    /// Every listed helper count must run with every listed threading, normals and size of the
-    /// threaded modes (the lists are crossed, so one bad pair would fail cells mid-sweep).
-    fn check_helpers(&self) -> Result<(), InputError> {
-        for &mode in self.modes.iter().filter(|&&m| m != Mode::Serial) {
-            for &helpers in &self.helpers {
-                for &threading in &self.threading {
-                    for &normals in &self.normals {
-                        for &size in &self.sizes {
-                            check_helpers(helpers, mode, threading, normals, size)?;
-                        }
-                    }
-                }
-            }
-        }
-        Ok(())
+/// Refuses a cell the loops cannot run, naming the field: a helper count the threading, normals
+/// or size cannot split into, or `lookup` where one frame would take over a second. The lists
+/// are crossed, so one bad pair would otherwise fail cells mid-sweep.
+fn check_cell(key: &CellKey) -> Result<(), InputError> {
+    if let (Some(helpers), Some(threading)) = (key.helpers, key.threading) {
+        check_helpers(helpers, key.mode, threading, key.normals, key.size)?;
     }
+    if key.normals == NormalMethod::Lookup
+        && normals::lookup_work(key.size) > normals::LOOKUP_MAX_WORK
+    {
+        return Err(InputError(format!(
+            "normals: `lookup` at size {} would take over a second per frame \
+             (the paper's O(n²) search); use sizes <= {} with lookup",
+            key.size,
+            normals::lookup_max_size()
+        )));
+    }
+    Ok(())
 }
 
 /// Refuses a mesh whose two copies (helper's slot and main's render buffer) would not fit in the

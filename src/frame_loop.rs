@@ -9,7 +9,6 @@ use crate::measure::{FrameRecord, Trial};
 use crate::ocean::{Grid, Kernel, Mesh, MeshRows, NormalMethod, Ocean, WaveSet};
 use crate::sync::{Handoff, Released, Slot, SyncMethod};
 use crate::workload;
-use serde::{Deserialize, Serialize};
 use std::cell::UnsafeCell;
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -17,8 +16,18 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// Where the two threads run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    strum::IntoStaticStr,
+    strum::VariantArray,
+    strum::EnumMessage,
+)]
+#[strum(serialize_all = "kebab-case")]
 pub enum Mode {
     /// One thread: workload, mesh step and copy in turn (the paper's non-threaded build).
     Serial,
@@ -28,16 +37,9 @@ pub enum Mode {
     Dp,
 }
 
-impl Mode {
-    /// The name used in configs, flags and results.
-    pub fn name(self) -> &'static str {
-        match self {
-            Mode::Serial => "serial",
-            Mode::Up => "up",
-            Mode::Dp => "dp",
-        }
-    }
+crate::named!(Mode);
 
+impl Mode {
     /// Distinct cores the mode needs.
     pub fn cores_needed(self) -> usize {
         match self {
@@ -48,8 +50,18 @@ impl Mode {
 }
 
 /// How the helper thread comes to exist.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    strum::IntoStaticStr,
+    strum::VariantArray,
+    strum::EnumMessage,
+)]
+#[strum(serialize_all = "kebab-case")]
 pub enum Threading {
     /// One persistent helper, created once (the paper's thread pool).
     Pool,
@@ -57,15 +69,7 @@ pub enum Threading {
     Spawn,
 }
 
-impl Threading {
-    /// The name used in configs, flags and results.
-    pub fn name(self) -> &'static str {
-        match self {
-            Threading::Pool => "pool",
-            Threading::Spawn => "spawn",
-        }
-    }
-}
+crate::named!(Threading);
 
 /// Everything that defines one cell's loop.
 #[derive(Clone, Debug)]

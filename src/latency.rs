@@ -8,6 +8,7 @@ use crate::sync::{Handoff, Released, SyncMethod};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
+use strum::VariantArray;
 
 /// Most time one row of the table may take: `spin` on one core needs a scheduler tick per trip.
 const ROW_BUDGET: Duration = Duration::from_secs(2);
@@ -123,7 +124,7 @@ pub fn table(a: usize, b: usize, samples: usize) -> Vec<LatencyRow> {
         if main != helper {
             rows.push(ping_pong(main, helper, samples));
         }
-        for method in SyncMethod::ALL {
+        for &method in SyncMethod::VARIANTS {
             rows.push(handoff_round_trip(method, main, helper, samples));
         }
     }

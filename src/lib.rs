@@ -2,13 +2,16 @@
 //! headless benchmark harness.
 
 pub mod affinity;
+pub mod cell;
 pub mod cli;
+pub mod commands;
 pub mod config;
 pub mod crosscore;
 pub mod frame_loop;
 pub mod latency;
 pub mod machine;
 pub mod measure;
+pub mod named;
 pub mod ocean;
 pub mod report;
 pub mod results;

@@ -1,66 +1,14 @@
 //! The results file: the interface between measuring and reporting. Tables, charts and
 //! comparisons are drawn from it alone.
 
+pub use crate::cell::CellKey;
 use crate::config::{Level, SweepConfig};
 use crate::crosscore::RoundTrip;
-use crate::frame_loop::{Mode, Threading};
 use crate::machine::Machine;
 use crate::measure::Summary;
-use crate::ocean::{Kernel, NormalMethod};
-use crate::sync::SyncMethod;
 use crate::workload::Calibration;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-
-/// The parameters that identify a cell.
-#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub struct CellKey {
-    /// Mesh size N.
-    pub size: usize,
-    /// Workload index.
-    pub workload: usize,
-    /// serial, up or dp.
-    pub mode: Mode,
-    /// Hand-off method; `null` in serial.
-    pub sync: Option<SyncMethod>,
-    /// Helper threading; `null` in serial.
-    pub threading: Option<Threading>,
-    /// Normal method.
-    pub normals: NormalMethod,
-    /// Kernel.
-    pub kernel: Kernel,
-    /// Helper threads the mesh's rows were split among (1 in results written before helpers).
-    #[serde(default = "one_helper")]
-    pub helpers: usize,
-}
-
-fn one_helper() -> usize {
-    1
-}
-
-impl CellKey {
-    /// A short label such as `256 w2 dp atomic pool neighbors reference` (`h2` after the
-    /// threading when the mesh is split among two helpers).
-    pub fn label(&self) -> String {
-        let mut parts = vec![
-            format!("{}", self.size),
-            format!("w{}", self.workload),
-            self.mode.name().to_string(),
-        ];
-        if let Some(s) = self.sync {
-            parts.push(s.name().into());
-        }
-        if let Some(t) = self.threading {
-            parts.push(t.name().into());
-        }
-        if self.helpers != 1 {
-            parts.push(format!("h{}", self.helpers));
-        }
-        parts.push(self.normals.name().into());
-        parts.push(self.kernel.name().into());
-        parts.join(" ")
-    }
-}
 
 /// The cores a cell ran on and whether the pins held.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

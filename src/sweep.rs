@@ -16,42 +16,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant, SystemTime};
 
-/// Every cell of the config in the order they run: size, workload, then normals, kernel, and
-/// per mode the methods; `serial` does not hand off, so it is one cell per size × workload.
+/// Every cell of the config in the order they run (see [`crate::cell::Axes::cells`]).
 pub fn cells(config: &SweepConfig) -> Vec<CellKey> {
-    let mut out = Vec::new();
-    for &size in &config.sizes {
-        for &workload in &config.workloads {
-            for &normals in &config.normals {
-                for &kernel in &config.kernel {
-                    for &mode in &config.modes {
-                        let key = |sync, threading, helpers| CellKey {
-                            size,
-                            workload,
-                            mode,
-                            sync,
-                            threading,
-                            normals,
-                            kernel,
-                            helpers,
-                        };
-                        if mode == Mode::Serial {
-                            out.push(key(None, None, 1));
-                            continue;
-                        }
-                        for &helpers in &config.helpers {
-                            for &threading in &config.threading {
-                                for &sync in &config.sync {
-                                    out.push(key(Some(sync), Some(threading), helpers));
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    }
-    out
+    config.axes.cells()
 }
 
 /// Median single-thread step time of an N = `size` mesh with the reference kernel and
@@ -128,6 +95,20 @@ pub fn utc_now() -> String {
 
 /// Batches per cross-core measurement: about 50 ms on a far placement.
 const ROUND_TRIP_BATCHES: usize = 500;
+
+/// What a running sweep reports to whoever runs it; every method does nothing unless
+/// overridden (as criterion's `Report`).
+pub trait Observer {
+    /// A trial is about to start.
+    fn trial_starting(&mut self, _progress: Progress<'_>) {}
+
+    /// A row of cells finished, or the whole sweep (then `results.finished` is set): the
+    /// results so far, ready to be written.
+    fn row_finished(&mut self, _results: &Results) {}
+}
+
+/// An observer that wants to know nothing.
+impl Observer for () {}
 
 /// Progress of a sweep, for a progress bar.
 #[derive(Clone, Debug)]
@@ -215,29 +196,23 @@ impl Sweep {
         Arc::clone(&self.stop)
     }
 
-    /// Runs the cells group by group, calling `on_progress` before every trial and `on_cell`
-    /// with the results after each group is persisted-ready.
+    /// Runs the cells group by group, telling `observer` before every trial and after every
+    /// group.
     ///
-    /// A group is one row of Figure 5-1 (same size, workload, normals and kernel): its cells'
+    /// A group is one row of Figure 5-1 (the same value of every row dimension): its cells'
     /// trials run in rotation (A B C A B C ...) so slow drift, such as the vCPUs moving between
     /// near and far placements, hits every cell of the row alike. The cross-core round trip is
     /// measured again after every group.
-    pub fn run(
-        mut self,
-        mut on_progress: impl FnMut(Progress<'_>),
-        mut on_cell: impl FnMut(&Results),
-    ) -> Results {
+    pub fn run(mut self, observer: &mut impl Observer) -> Results {
         let keys = std::mem::take(&mut self.keys);
         let trials = self.results.config.trials as usize;
         let total = keys.len() * trials;
         let mut done = 0;
-        for group in keys.chunk_by(|a, b| {
-            (a.size, a.workload, a.normals, a.kernel) == (b.size, b.workload, b.normals, b.kernel)
-        }) {
+        for group in keys.chunk_by(|a, b| a.row() == b.row()) {
             let mut runs: Vec<CellRun> = group.iter().map(|k| self.start_cell(k)).collect();
             for _ in 0..trials {
                 for run in runs.iter_mut().filter(|r| r.error.is_none()) {
-                    on_progress(Progress {
+                    observer.trial_starting(Progress {
                         done,
                         total,
                         cell: &run.key,
@@ -257,7 +232,7 @@ impl Sweep {
                 let rt = crosscore::round_trip(self.cores[0], self.cores[1], ROUND_TRIP_BATCHES);
                 self.results.round_trip.during.push(rt);
             }
-            on_cell(&self.results);
+            observer.row_finished(&self.results);
             if self.stop.load(Ordering::Relaxed) {
                 return self.results;
             }
@@ -270,7 +245,7 @@ impl Sweep {
             ));
         }
         self.results.finished = Some(utc_now());
-        on_cell(&self.results);
+        observer.row_finished(&self.results);
         self.results
     }
 
@@ -292,11 +267,11 @@ impl Sweep {
             workload_iterations: iterations,
             main_core: self.cores[0],
             helper_core,
-            helpers: key.helpers,
+            helpers: key.helpers.unwrap_or(1),
             // In up every helper shares the main core; in dp they cycle through the allowed
             // cores from the configured helper core on.
             helper_cores: match key.mode {
-                Mode::Dp => frame_loop::cycle_cores(helper_core, key.helpers),
+                Mode::Dp => frame_loop::cycle_cores(helper_core, key.helpers.unwrap_or(1)),
                 _ => Vec::new(),
             },
             time_step: config.time_step,

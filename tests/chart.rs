@@ -1,5 +1,6 @@
 //! Charts drawn from a real results file: the files exist, decode, and show every series.
 
+use oceanbench::cell::{Dim, Value};
 use oceanbench::frame_loop::Mode;
 use oceanbench::report::chart::{self, ChartFormat, ChartOptions, CHARTS, CHART_SIZE};
 use oceanbench::results::Results;
@@ -191,8 +192,10 @@ fn a_chosen_cell_drives_the_single_cell_charts() {
     let dir = tempfile::tempdir().unwrap();
     let options = ChartOptions {
         formats: vec![ChartFormat::Svg],
-        size: Some(16),
-        workload: Some(0),
+        select: vec![
+            (Dim::Size, Value::Count(16)),
+            (Dim::Workload, Value::Count(0)),
+        ],
     };
     let drawn = chart::draw_with(&[fixture()], dir.path(), &options).unwrap();
     let text = svg_text(&file(&drawn.files, "breakdown.svg"));

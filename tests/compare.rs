@@ -1,7 +1,8 @@
 //! Noise-aware comparisons on the quick fixture and on hand-made trials: verdicts, unmatched and
 //! failed cells, within-run ranking, errors and the three renderings.
 
-use oceanbench::report::compare::{self, CompareBy, CompareError, Comparison, Verdict};
+use oceanbench::cell::Dim;
+use oceanbench::report::compare::{self, CompareError, Comparison, Verdict};
 use oceanbench::results::{Cell, Results};
 use std::path::Path;
 
@@ -149,7 +150,7 @@ fn unmatched_and_failed_cells_are_listed() {
 #[test]
 fn within_by_sync_ranks_five_methods_per_group() {
     let r = fixture();
-    let c = compare::within(&r, CompareBy::Sync, "atomic", 5.0).unwrap();
+    let c = compare::within(&r, Dim::Sync, "atomic", 5.0).unwrap();
     let groups: Vec<_> = r
         .cells
         .iter()
@@ -191,7 +192,7 @@ fn within_by_mode_pairs_serial_with_every_threaded_cell() {
         .filter(|c| c.key.mode.name() == "serial")
         .count();
     let threaded = r.cells.len() - serial;
-    let c = compare::within(&r, CompareBy::Mode, "serial", 5.0).unwrap();
+    let c = compare::within(&r, Dim::Mode, "serial", 5.0).unwrap();
     assert_eq!(c.changes.len(), threaded);
     assert!(c
         .changes
@@ -199,7 +200,7 @@ fn within_by_mode_pairs_serial_with_every_threaded_cell() {
         .any(|c| c.label == "16 w0 atomic pool neighbors reference"
             && c.versus.as_deref() == Some("dp vs serial")));
     // up against dp pairs by the full key but mode, and serial against every up cell.
-    let c = compare::within(&r, CompareBy::Mode, "up", 5.0).unwrap();
+    let c = compare::within(&r, Dim::Mode, "up", 5.0).unwrap();
     let up = r.cells.iter().filter(|c| c.key.mode.name() == "up").count();
     assert_eq!(c.changes.len(), up * 2);
 }
@@ -207,7 +208,7 @@ fn within_by_mode_pairs_serial_with_every_threaded_cell() {
 #[test]
 fn bad_baselines_name_the_values_present() {
     let r = fixture();
-    let err = compare::within(&r, CompareBy::Sync, "futex", 5.0).unwrap_err();
+    let err = compare::within(&r, Dim::Sync, "futex", 5.0).unwrap_err();
     assert!(matches!(err, CompareError::UnknownBaseline { .. }));
     let msg = err.to_string();
     assert!(!msg.contains('\n'));
@@ -227,18 +228,18 @@ fn bad_baselines_name_the_values_present() {
     atomic_only
         .cells
         .retain(|c| c.key.sync.is_none_or(|s| s.name() != "spin"));
-    let err = compare::within(&atomic_only, CompareBy::Sync, "spin", 5.0).unwrap_err();
+    let err = compare::within(&atomic_only, Dim::Sync, "spin", 5.0).unwrap_err();
     assert!(matches!(err, CompareError::AbsentBaseline { .. }));
     assert!(err.to_string().contains("atomic") && !err.to_string().contains("spin,"));
 
-    let err = compare::within(&r, CompareBy::Normals, "neighbors", 5.0).unwrap_err();
+    let err = compare::within(&r, Dim::Normals, "neighbors", 5.0).unwrap_err();
     assert!(matches!(err, CompareError::NoAlternative { .. }));
 }
 
 #[test]
 fn json_round_trips() {
     let r = fixture();
-    let c = compare::within(&r, CompareBy::Sync, "atomic", 5.0).unwrap();
+    let c = compare::within(&r, Dim::Sync, "atomic", 5.0).unwrap();
     let back: Comparison = serde_json::from_str(&c.to_json()).unwrap();
     // serde_json's default float parsing may differ from the printed value in the last bit.
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(1.0);

@@ -6,6 +6,7 @@ use oceanbench::frame_loop::{self, Budget, LoopSpec, Mode, Threading};
 use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, WaveSet};
 use oceanbench::sync::SyncMethod;
 use std::time::Duration;
+use strum::VariantArray;
 
 const FRAMES: u64 = 300;
 
@@ -71,7 +72,7 @@ fn threaded_meshes_are_bit_identical_to_serial_each_frame_once_in_order() {
         assert_ne!(serial[0].1.z, serial[1].1.z);
         for mode in modes() {
             for threading in [Threading::Pool, Threading::Spawn] {
-                for sync in SyncMethod::ALL {
+                for &sync in SyncMethod::VARIANTS {
                     let got = frames(&spec(mode, sync, threading, normals));
                     assert_eq!(got.len(), serial.len());
                     for ((k, mesh), (sk, smesh)) in got.iter().zip(&serial) {
@@ -137,7 +138,7 @@ fn split_meshes_are_bit_identical_to_serial_each_frame_once_in_order() {
         serial_spec.kernel = kernel;
         let serial = frames(&serial_spec);
         for mode in modes() {
-            for sync in SyncMethod::ALL {
+            for &sync in SyncMethod::VARIANTS {
                 for helpers in [2, 3] {
                     let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
                     s.kernel = kernel;

@@ -10,6 +10,7 @@ use oceanbench::frame_loop::{self, Budget, LoopSpec, Mode, Threading};
 use oceanbench::ocean::{Grid, Kernel, NormalMethod, WaveSet};
 use oceanbench::sync::SyncMethod;
 use std::time::Duration;
+use strum::VariantArray;
 
 const FRAMES: u64 = 1_000_000;
 const MAX_SECONDS: f64 = 20.0;
@@ -23,7 +24,7 @@ fn a_million_frames_per_method_none_lost() {
         modes.push(Mode::Dp);
     }
     for mode in modes {
-        for sync in SyncMethod::ALL {
+        for &sync in SyncMethod::VARIANTS {
             let spec = LoopSpec {
                 grid: Grid::new(2, 1.0).unwrap(),
                 waves: WaveSet::default(),

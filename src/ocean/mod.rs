@@ -11,11 +11,20 @@ pub use normals::NormalMethod;
 pub use waves::{Wave, WaveSet};
 
 use normals::FaceNormals;
-use serde::{Deserialize, Serialize};
 
 /// Which implementation fills heights (and analytic normals).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    strum::IntoStaticStr,
+    strum::VariantArray,
+    strum::EnumMessage,
+)]
+#[strum(serialize_all = "kebab-case")]
 pub enum Kernel {
     /// The straight port of section 4.2, kept as the oracle.
     Reference,
@@ -24,15 +33,7 @@ pub enum Kernel {
     Fast,
 }
 
-impl Kernel {
-    /// The name used in configs, flags and results.
-    pub fn name(self) -> &'static str {
-        match self {
-            Kernel::Reference => "reference",
-            Kernel::Fast => "fast",
-        }
-    }
-}
+crate::named!(Kernel);
 
 /// Everything needed to compute one frame's mesh: waves, normal method, kernel and the
 /// precomputed topology. Owned by whichever thread runs the step.

@@ -4,11 +4,20 @@
 
 use super::mesh::{Grid, Mesh};
 use glam::Vec3;
-use serde::{Deserialize, Serialize};
 
 /// How vertex normals are computed each frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    strum::IntoStaticStr,
+    strum::VariantArray,
+    strum::EnumMessage,
+)]
+#[strum(serialize_all = "kebab-case")]
 pub enum NormalMethod {
     /// The paper's original: for every vertex, a linear search of the triangle list (O(n²)).
     Lookup,
@@ -18,16 +27,7 @@ pub enum NormalMethod {
     Analytic,
 }
 
-impl NormalMethod {
-    /// The name used in configs, flags and results.
-    pub fn name(self) -> &'static str {
-        match self {
-            NormalMethod::Lookup => "lookup",
-            NormalMethod::Neighbors => "neighbors",
-            NormalMethod::Analytic => "analytic",
-        }
-    }
-}
+crate::named!(NormalMethod);
 
 /// Triangle-vertex tests one `lookup` frame may take: about a second of one core.
 pub const LOOKUP_MAX_WORK: u64 = 600_000_000;

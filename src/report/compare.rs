@@ -6,15 +6,14 @@
 //! whole interval clears the threshold, so two noisy runs of the same code compare as "within
 //! noise" rather than as a coin flip.
 
-use crate::frame_loop::Mode;
+use crate::cell::{Dim, Value};
 use crate::measure::quantile;
-use crate::ocean::{Kernel, NormalMethod};
 use crate::results::{Cell, CellKey, Results};
-use crate::sync::SyncMethod;
-use clap::ValueEnum;
+use itertools::Itertools;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::fmt::Write;
+use strum::EnumMessage;
 
 /// The threshold the CLI uses when none is given, in percent.
 pub const DEFAULT_THRESHOLD_PCT: f64 = 5.0;
@@ -22,78 +21,37 @@ pub const DEFAULT_THRESHOLD_PCT: f64 = 5.0;
 /// Resamples per bootstrap: enough for stable 2.5%/97.5% percentiles, cheap for a few hundred cells.
 const RESAMPLES: usize = 10_000;
 
-/// The parameter a within-run comparison varies.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-pub enum CompareBy {
-    /// Hand-off method (serial cells have none and are left out).
-    Sync,
-    /// serial, up or dp.
-    Mode,
-    /// Normal method.
-    Normals,
-    /// Kernel.
-    Kernel,
-}
-
-impl CompareBy {
-    /// The name used in flags and output.
-    pub fn name(self) -> &'static str {
-        match self {
-            CompareBy::Sync => "sync",
-            CompareBy::Mode => "mode",
-            CompareBy::Normals => "normals",
-            CompareBy::Kernel => "kernel",
-        }
-    }
-
-    /// Every value the parameter can take, in the order the enums declare them.
-    fn all_values(self) -> Vec<&'static str> {
-        match self {
-            CompareBy::Sync => SyncMethod::value_variants()
-                .iter()
-                .map(|v| v.name())
-                .collect(),
-            CompareBy::Mode => Mode::value_variants().iter().map(|v| v.name()).collect(),
-            CompareBy::Normals => NormalMethod::value_variants()
-                .iter()
-                .map(|v| v.name())
-                .collect(),
-            CompareBy::Kernel => Kernel::value_variants().iter().map(|v| v.name()).collect(),
-        }
-    }
-
-    /// The cell's value of this parameter; `None` when the cell has none (serial has no sync).
-    fn value(self, key: &CellKey) -> Option<&'static str> {
-        match self {
-            CompareBy::Sync => key.sync.map(SyncMethod::name),
-            CompareBy::Mode => Some(key.mode.name()),
-            CompareBy::Normals => Some(key.normals.name()),
-            CompareBy::Kernel => Some(key.kernel.name()),
-        }
-    }
-}
-
 /// What a comparison concluded about one pair of cells.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    strum::IntoStaticStr,
+    strum::VariantArray,
+    strum::EnumMessage,
+)]
+#[strum(serialize_all = "kebab-case")]
 pub enum Verdict {
     /// The whole interval lies above +threshold.
+    #[strum(message = "improved")]
     Improved,
     /// The whole interval lies below -threshold.
+    #[strum(message = "regressed")]
     Regressed,
     /// The interval reaches into [-threshold, +threshold].
+    #[strum(message = "within noise")]
     WithinNoise,
 }
 
+crate::named!(Verdict);
+
 impl Verdict {
-    /// The name used in output.
-    pub fn name(self) -> &'static str {
-        match self {
-            Verdict::Improved => "improved",
-            Verdict::Regressed => "regressed",
-            Verdict::WithinNoise => "within noise",
-        }
+    /// The verdict in words, for tables.
+    pub fn words(self) -> &'static str {
+        self.get_message().unwrap_or(self.name())
     }
 }
 
@@ -128,7 +86,7 @@ pub struct Comparison {
     pub threshold_pct: f64,
     /// Within a run: the varied parameter; absent between runs.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub by: Option<CompareBy>,
+    pub by: Option<Dim>,
     /// Within a run: the baseline value; absent between runs.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub baseline: Option<String>,
@@ -203,20 +161,20 @@ pub fn between(base: &Results, new: &Results, threshold_pct: f64) -> Comparison 
 
 /// Ranks every other value of `by` against `baseline`, cell group by cell group, in one run.
 ///
-/// A group is every parameter but `by`. For `by = mode` the serial cell has no sync or threading,
-/// so a serial cell pairs with every up/dp cell of the same size, workload, normals and kernel,
-/// while up and dp pair by the full key but mode: that is the comparison Figure 5-1 makes.
-/// For `by = sync` serial cells have no value and are left out.
+/// A group is every dimension but `by`. Serial cells have no value of the hand-off dimensions,
+/// so for `by = mode` a serial cell pairs with every up/dp cell that matches it in the
+/// dimensions serial cells do have, while up and dp pair by the full key but mode: that is the
+/// comparison Figure 5-1 makes. For `by` a hand-off dimension, serial cells are left out.
 pub fn within(
     results: &Results,
-    by: CompareBy,
+    by: Dim,
     baseline: &str,
     threshold_pct: f64,
 ) -> Result<Comparison, CompareError> {
     let cells = unique(&results.cells);
-    let mut present: Vec<&'static str> = Vec::new();
+    let mut present: Vec<Value> = Vec::new();
     for c in &cells {
-        if let Some(v) = by.value(&c.key) {
+        if let Some(v) = c.key.get(by) {
             if !present.contains(&v) {
                 present.push(v);
             }
@@ -225,16 +183,16 @@ pub fn within(
     let listed = if present.is_empty() {
         "none".to_string()
     } else {
-        present.join(", ")
+        present.iter().join(", ")
     };
-    if !by.all_values().contains(&baseline) {
-        return Err(CompareError::UnknownBaseline {
+    let base_value = by
+        .parse_value(baseline)
+        .map_err(|_| CompareError::UnknownBaseline {
             by: by.name(),
             baseline: baseline.into(),
-            present: listed,
-        });
-    }
-    if !present.contains(&baseline) {
+            present: listed.clone(),
+        })?;
+    if !present.contains(&base_value) {
         return Err(CompareError::AbsentBaseline {
             by: by.name(),
             baseline: baseline.into(),
@@ -250,8 +208,8 @@ pub fn within(
 
     let (bases, others): (Vec<&Cell>, Vec<&Cell>) = cells
         .into_iter()
-        .filter(|c| by.value(&c.key).is_some())
-        .partition(|c| by.value(&c.key) == Some(baseline));
+        .filter(|c| c.key.get(by).is_some())
+        .partition(|c| c.key.get(by) == Some(base_value));
     let mut out = Comparison::empty(threshold_pct, Some(by), Some(baseline.into()));
     let mut pairs = Vec::new();
     let mut partnered = vec![false; others.len()];
@@ -261,16 +219,13 @@ pub fn within(
             if partners(by, &b.key, &o.key) {
                 any = true;
                 partnered[i] = true;
-                let shown = if o.key.mode == Mode::Serial {
-                    &b.key
-                } else {
-                    &o.key
-                };
+                let shown = if o.key.is_serial() { &b.key } else { &o.key };
+                let other = o.key.get(by).map_or_else(|| "?".into(), |v| v.to_string());
                 pairs.push(Pair {
                     base: b,
                     new: o,
-                    label: group_label(shown, by),
-                    versus: Some(format!("{} vs {baseline}", by.value(&o.key).unwrap_or("?"))),
+                    label: shown.label_without(&[by]),
+                    versus: Some(format!("{other} vs {baseline}")),
                 });
             }
         }
@@ -287,59 +242,14 @@ pub fn within(
     Ok(out)
 }
 
-/// Whether a baseline cell and another cell belong to the same group.
-fn partners(by: CompareBy, base: &CellKey, other: &CellKey) -> bool {
-    match by {
-        CompareBy::Sync => {
-            CellKey {
-                sync: other.sync,
-                ..base.clone()
-            } == *other
-        }
-        CompareBy::Normals => {
-            CellKey {
-                normals: other.normals,
-                ..base.clone()
-            } == *other
-        }
-        CompareBy::Kernel => {
-            CellKey {
-                kernel: other.kernel,
-                ..base.clone()
-            } == *other
-        }
-        CompareBy::Mode => {
-            let same_rest = base.size == other.size
-                && base.workload == other.workload
-                && base.normals == other.normals
-                && base.kernel == other.kernel;
-            let serial = base.mode == Mode::Serial || other.mode == Mode::Serial;
-            same_rest && (serial || (base.sync == other.sync && base.threading == other.threading))
-        }
-    }
-}
-
-/// The label of a key without the varied parameter.
-fn group_label(key: &CellKey, by: CompareBy) -> String {
-    let mut parts = vec![format!("{}", key.size), format!("w{}", key.workload)];
-    if by != CompareBy::Mode {
-        parts.push(key.mode.name().into());
-    }
-    if by != CompareBy::Sync {
-        if let Some(s) = key.sync {
-            parts.push(s.name().into());
-        }
-    }
-    if let Some(t) = key.threading {
-        parts.push(t.name().into());
-    }
-    if by != CompareBy::Normals {
-        parts.push(key.normals.name().into());
-    }
-    if by != CompareBy::Kernel {
-        parts.push(key.kernel.name().into());
-    }
-    parts.join(" ")
+/// Whether a baseline cell and another cell belong to the same group: equal in every dimension
+/// but `by`, where a serial cell matches any value of the dimensions it does not have.
+fn partners(by: Dim, base: &CellKey, other: &CellKey) -> bool {
+    let serial = base.is_serial() || other.is_serial();
+    Dim::ALL
+        .iter()
+        .filter(|&&d| d != by)
+        .all(|&d| base.get(d) == other.get(d) || (serial && !d.in_serial_cells()))
 }
 
 /// The first cell of each key: a rerun cell appended to a file must not be compared twice.
@@ -385,7 +295,7 @@ fn trials(cell: &Cell) -> Result<Vec<f64>, String> {
 }
 
 impl Comparison {
-    fn empty(threshold_pct: f64, by: Option<CompareBy>, baseline: Option<String>) -> Comparison {
+    fn empty(threshold_pct: f64, by: Option<Dim>, baseline: Option<String>) -> Comparison {
         Comparison {
             threshold_pct,
             by,
@@ -479,7 +389,7 @@ impl Comparison {
                     None => c.label.clone(),
                 };
                 [
-                    c.verdict.name().to_string(),
+                    c.verdict.words().to_string(),
                     pct(c.change_pct),
                     format!("[{}, {}]{mark}", pct(c.ci_low_pct), pct(c.ci_high_pct)),
                     format!("{:.1}", c.base_fps),
@@ -492,7 +402,7 @@ impl Comparison {
 
     fn title(&self) -> String {
         match (&self.by, &self.baseline) {
-            (Some(by), Some(b)) => format!("FPS by {} against {b}", by.name()),
+            (Some(by), Some(b)) => format!("FPS by {by} against {b}"),
             _ => "FPS, new against base".to_string(),
         }
     }

@@ -1,61 +1,112 @@
-//! The tidy CSV: one row per cell, one column per parameter or statistic.
+//! CSV files through the `csv` crate, from flat row structs: the results table (one row per
+//! cell, one column per dimension or statistic) and `mesh --out`.
 
-use crate::results::{Cell, Results};
-use std::fmt::Write;
+use crate::results::{Cell, CellKey, Results};
+use serde::Serialize;
+use std::io::Write;
 
-/// The CSV header.
-pub const HEADER: &str = "size,workload,mode,sync,threading,normals,kernel,workload_iterations,\
-fps,fps_min,fps_max,fps_cv_percent,frame_ms_mean,frame_ms_median,frame_ms_p99,frame_ms_max,\
-one_percent_low_fps,workload_ms,wait_ms,copy_ms,step_ms,frames,seconds,pinned,error";
-
-/// The results as CSV text.
-pub fn to_string(results: &Results) -> String {
-    let mut out = String::from(HEADER);
-    out.push('\n');
-    for cell in &results.cells {
-        row(&mut out, cell);
-    }
-    out
+/// One results row: the cell's dimensions, then its statistics; blank where a cell has no value.
+#[derive(Serialize)]
+struct CellRow<'a> {
+    #[serde(flatten)]
+    key: &'a CellKey,
+    workload_iterations: u64,
+    fps: Option<f64>,
+    fps_min: Option<f64>,
+    fps_max: Option<f64>,
+    fps_cv_percent: Option<f64>,
+    frame_ms_mean: Option<f64>,
+    frame_ms_median: Option<f64>,
+    frame_ms_p99: Option<f64>,
+    frame_ms_max: Option<f64>,
+    one_percent_low_fps: Option<f64>,
+    workload_ms: Option<f64>,
+    wait_ms: Option<f64>,
+    copy_ms: Option<f64>,
+    step_ms: Option<f64>,
+    frames: Option<usize>,
+    seconds: Option<f64>,
+    pinned: bool,
+    error: Option<&'a str>,
 }
 
-fn row(out: &mut String, cell: &Cell) {
-    let k = &cell.key;
-    let _ = write!(
-        out,
-        "{},{},{},{},{},{},{},{}",
-        k.size,
-        k.workload,
-        k.mode.name(),
-        k.sync.map_or("", |s| s.name()),
-        k.threading.map_or("", |t| t.name()),
-        k.normals.name(),
-        k.kernel.name(),
-        cell.workload_iterations
-    );
-    match &cell.summary {
-        Some(s) => {
-            let _ = write!(
-                out,
-                ",{:.3},{:.3},{:.3},{:.2},{:.6},{:.6},{:.6},{:.6},{:.3},{:.6},{:.6},{:.6},{:.6},{},{:.4}",
-                s.fps,
-                s.fps_spread.min,
-                s.fps_spread.max,
-                s.fps_spread.cv_percent,
-                s.frame_time_ms.mean,
-                s.frame_time_ms.median,
-                s.frame_time_ms.p99,
-                s.frame_time_ms.max,
-                s.one_percent_low_fps,
-                s.breakdown.workload_ms,
-                s.breakdown.wait_ms,
-                s.breakdown.copy_ms,
-                s.breakdown.step_ms,
-                s.frames,
-                s.seconds
-            );
+impl<'a> CellRow<'a> {
+    fn of(cell: &'a Cell) -> CellRow<'a> {
+        let s = cell.summary.as_ref();
+        let stat = |f: fn(&crate::measure::Summary) -> f64| s.map(f);
+        CellRow {
+            key: &cell.key,
+            workload_iterations: cell.workload_iterations,
+            fps: stat(|s| s.fps),
+            fps_min: stat(|s| s.fps_spread.min),
+            fps_max: stat(|s| s.fps_spread.max),
+            fps_cv_percent: stat(|s| s.fps_spread.cv_percent),
+            frame_ms_mean: stat(|s| s.frame_time_ms.mean),
+            frame_ms_median: stat(|s| s.frame_time_ms.median),
+            frame_ms_p99: stat(|s| s.frame_time_ms.p99),
+            frame_ms_max: stat(|s| s.frame_time_ms.max),
+            one_percent_low_fps: stat(|s| s.one_percent_low_fps),
+            workload_ms: stat(|s| s.breakdown.workload_ms),
+            wait_ms: stat(|s| s.breakdown.wait_ms),
+            copy_ms: stat(|s| s.breakdown.copy_ms),
+            step_ms: stat(|s| s.breakdown.step_ms),
+            frames: s.map(|s| s.frames),
+            seconds: stat(|s| s.seconds),
+            pinned: cell.pinned,
+            error: cell.error.as_deref(),
         }
-        None => out.push_str(&",".repeat(15)),
     }
-    let error = cell.error.as_deref().unwrap_or("").replace('"', "'");
-    let _ = writeln!(out, ",{},\"{}\"", cell.pinned, error);
+}
+
+/// Why a CSV file could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum CsvError {
+    /// The writer failed (I/O, or a record of another length than the header).
+    #[error(transparent)]
+    Csv(#[from] csv::Error),
+    /// A row did not serialise to a flat object of scalars.
+    #[error("a CSV row must be a flat object of scalars: {0}")]
+    Shape(String),
+}
+
+/// Writes `rows` as CSV with a header of their field names. A row is serialised to a JSON
+/// object first, because the csv crate cannot write `#[serde(flatten)]` fields; the object keeps
+/// the fields in declaration order, and `null` is written as an empty field.
+pub fn write<T: Serialize>(
+    out: impl Write,
+    rows: impl IntoIterator<Item = T>,
+) -> Result<(), CsvError> {
+    let mut w = csv::Writer::from_writer(out);
+    let mut header_written = false;
+    for row in rows {
+        let serde_json::Value::Object(fields) =
+            serde_json::to_value(&row).map_err(|e| CsvError::Shape(e.to_string()))?
+        else {
+            return Err(CsvError::Shape("not an object".into()));
+        };
+        if !header_written {
+            w.write_record(fields.keys())?;
+            header_written = true;
+        }
+        let mut record = Vec::with_capacity(fields.len());
+        for (name, value) in fields {
+            record.push(match value {
+                serde_json::Value::Null => String::new(),
+                serde_json::Value::String(s) => s,
+                serde_json::Value::Bool(b) => b.to_string(),
+                serde_json::Value::Number(n) => n.to_string(),
+                _ => return Err(CsvError::Shape(format!("field `{name}` is not a scalar"))),
+            });
+        }
+        w.write_record(&record)?;
+    }
+    w.flush().map_err(csv::Error::from)?;
+    Ok(())
+}
+
+/// The results as CSV text: one row per cell.
+pub fn to_string(results: &Results) -> Result<String, CsvError> {
+    let mut out = Vec::new();
+    write(&mut out, results.cells.iter().map(CellRow::of))?;
+    Ok(String::from_utf8(out).expect("every field written is UTF-8"))
 }

@@ -1,6 +1,7 @@
 //! The Figure 5-1 table: rows mesh size × workload, columns serial / UP / DP and the ratios, one
-//! table per hand-off method, threading model, normal method and kernel.
+//! table per combination of the other dimensions (hand-off method, threading, normals, kernel...).
 
+use crate::cell::{Dim, DimValue};
 use crate::frame_loop::Mode;
 use crate::results::{Cell, CellKey, Results};
 use std::fmt::Write;
@@ -98,32 +99,33 @@ pub fn to_string(results: &Results) -> String {
     out
 }
 
-/// One Figure 5-1 table per (sync, threading, normals, kernel) found among threaded cells; the
-/// serial column comes from the serial cell of the same size, workload, normals and kernel.
+/// The dimensions every table lays out: rows are size × workload, columns the modes.
+const TABLE_DIMS: [Dim; 3] = [Dim::Size, Dim::Workload, Dim::Mode];
+
+/// One Figure 5-1 table per combination of the other dimensions found among threaded cells; the
+/// serial column comes from the serial cell of the same row.
 pub fn tables(results: &Results) -> String {
+    // A group is a key with the table's own dimensions set to placeholders.
+    let group_of = |key: &CellKey| -> CellKey {
+        let mut g = key.clone();
+        g.size = 0;
+        g.workload = 0;
+        if !g.is_serial() {
+            g.mode = Mode::Up;
+        }
+        g
+    };
     let mut groups: Vec<CellKey> = Vec::new();
-    for c in &results.cells {
-        let g = CellKey {
-            size: 0,
-            workload: 0,
-            mode: Mode::Up,
-            ..c.key.clone()
-        };
-        if c.key.mode != Mode::Serial && !groups.contains(&g) {
+    for c in results.cells.iter().filter(|c| !c.key.is_serial()) {
+        let g = group_of(&c.key);
+        if !groups.contains(&g) {
             groups.push(g);
         }
     }
+    // A serial-only run still gets one table.
     if groups.is_empty() {
-        // A serial-only run still gets one table.
         if let Some(c) = results.cells.first() {
-            groups.push(CellKey {
-                size: 0,
-                workload: 0,
-                mode: Mode::Up,
-                sync: None,
-                threading: None,
-                ..c.key.clone()
-            });
+            groups.push(group_of(&c.key));
         }
     }
     let mut rows: Vec<(usize, usize)> = Vec::new();
@@ -134,35 +136,26 @@ pub fn tables(results: &Results) -> String {
     }
     let mut out = String::new();
     for g in groups {
-        let _ = writeln!(
-            out,
-            "### FPS, {} hand-off, {} helper{}, {} normals, {} kernel\n",
-            g.sync.map_or("no", |s| s.name()),
-            g.threading.map_or("no", |t| t.name()),
-            if g.helpers == 1 {
-                String::new()
-            } else {
-                format!(" ×{}", g.helpers)
-            },
-            g.normals.name(),
-            g.kernel.name()
-        );
+        let heading: Vec<String> = Dim::ALL
+            .iter()
+            .filter(|d| !TABLE_DIMS.contains(d))
+            .filter_map(|&d| {
+                let v = g.get(d)?;
+                (Some(v) != d.quiet()).then(|| d.title(v))
+            })
+            .collect();
+        let _ = writeln!(out, "### FPS, {}\n", heading.join(", "));
         out.push_str("| mesh | workload | serial | UP | DP | DP÷UP | DP÷serial |\n");
         out.push_str("|---|---:|---:|---:|---:|---:|---:|\n");
         for &(size, workload) in &rows {
             let find = |mode: Mode| {
-                let serial = mode == Mode::Serial;
-                results.cell(&CellKey {
+                let key = CellKey {
                     size,
                     workload,
-                    mode,
-                    sync: if serial { None } else { g.sync },
-                    threading: if serial { None } else { g.threading },
-                    normals: g.normals,
-                    kernel: g.kernel,
-                    // Serial cells have no helper; threaded ones share the group's count.
-                    helpers: if serial { 1 } else { g.helpers },
-                })
+                    ..g.clone()
+                }
+                .with(Dim::Mode, mode.value())?;
+                results.cell(&key)
             };
             let (s, u, d) = (find(Mode::Serial), find(Mode::Up), find(Mode::Dp));
             let _ = writeln!(

@@ -10,12 +10,21 @@ mod slot;
 
 pub use slot::Slot;
 
-use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
 /// The synchronisation methods a sweep can compare.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    strum::IntoStaticStr,
+    strum::VariantArray,
+    strum::EnumMessage,
+)]
+#[strum(serialize_all = "kebab-case")]
 pub enum SyncMethod {
     /// Atomic flag, acquire/release; waiters poll with a yield (the paper's Interlocked + Sleep(0)).
     Atomic,
@@ -31,29 +40,9 @@ pub enum SyncMethod {
     CondvarStd,
 }
 
+crate::named!(SyncMethod);
+
 impl SyncMethod {
-    /// Every method, in the order tables list them.
-    pub const ALL: [SyncMethod; 6] = [
-        SyncMethod::Atomic,
-        SyncMethod::Spin,
-        SyncMethod::Mutex,
-        SyncMethod::Condvar,
-        SyncMethod::MutexStd,
-        SyncMethod::CondvarStd,
-    ];
-
-    /// The name used in configs, flags and results.
-    pub fn name(self) -> &'static str {
-        match self {
-            SyncMethod::Atomic => "atomic",
-            SyncMethod::Spin => "spin",
-            SyncMethod::Mutex => "mutex",
-            SyncMethod::Condvar => "condvar",
-            SyncMethod::MutexStd => "mutex-std",
-            SyncMethod::CondvarStd => "condvar-std",
-        }
-    }
-
     /// A fresh hand-off of this method, in the state "slot empty, helper may write".
     pub fn handoff(self) -> Box<dyn Handoff> {
         match self {

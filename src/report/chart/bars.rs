@@ -69,7 +69,7 @@ pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, String> {
         for (g, &w) in workloads.iter().enumerate() {
             for (r, run) in runs.runs.iter().enumerate() {
                 for (m, &mode) in modes.iter().enumerate() {
-                    let key = v.key(size, w, mode, v.sync);
+                    let key = v.key(size, w, mode, v.sync());
                     if let Some(s) = runs.summary(run, &key, &mut missing) {
                         bars.push(Bar {
                             group: g,
@@ -103,7 +103,7 @@ pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, String> {
         frame: Frame {
             title: format!(
                 "Figure 5-1: frames per second by workload, serial vs UP vs DP ({} hand-off)",
-                v.sync.name()
+                v.sync().name()
             ),
             lines,
             legend,
@@ -141,9 +141,9 @@ pub(super) fn relative(runs: &Runs) -> Result<Chart, String> {
         let mut bars = vec![];
         for (g, &w) in workloads.iter().enumerate() {
             for (r, run) in runs.runs.iter().enumerate() {
-                let dp = runs.summary(run, &v.key(size, w, Mode::Dp, v.sync), &mut missing);
+                let dp = runs.summary(run, &v.key(size, w, Mode::Dp, v.sync()), &mut missing);
                 for (p, &(base, _)) in pairs.iter().enumerate() {
-                    let b = runs.summary(run, &v.key(size, w, base, v.sync), &mut missing);
+                    let b = runs.summary(run, &v.key(size, w, base, v.sync()), &mut missing);
                     if let (Some(dp), Some(b)) = (dp, b) {
                         // The bound pairs DP's slowest trial with the base's fastest and back.
                         let lo = dp.fps_spread.min / b.fps_spread.max;
@@ -192,7 +192,7 @@ pub(super) fn relative(runs: &Runs) -> Result<Chart, String> {
         frame: Frame {
             title: format!(
                 "DP speed-up: DP ÷ UP and DP ÷ serial FPS ({} hand-off)",
-                v.sync.name()
+                v.sync().name()
             ),
             lines,
             legend,
@@ -249,7 +249,7 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, String> {
                     }
                 }
             }
-            let serial = v.key(size, workload, Mode::Serial, v.sync);
+            let serial = v.key(size, workload, Mode::Serial, v.sync());
             if let Some(s) = runs.summary(run, &serial, &mut missing) {
                 refs.push(RefLine {
                     value: s.fps,

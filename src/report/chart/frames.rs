@@ -100,7 +100,7 @@ pub(super) fn frame_times(runs: &Runs, focus: Option<(usize, usize)>) -> Result<
                     });
                 }
             }
-            let serial = v.key(size, workload, Mode::Serial, v.sync);
+            let serial = v.key(size, workload, Mode::Serial, v.sync());
             if let Some(s) = runs.summary(run, &serial, &mut missing) {
                 series.push(Series {
                     color: shade(SERIAL, r),
@@ -177,7 +177,7 @@ pub(super) fn breakdown(runs: &Runs, focus: Option<(usize, usize)>) -> Result<Ch
     for run in &runs.runs {
         for &mode in &modes {
             let methods: Vec<SyncMethod> = if mode == Mode::Serial {
-                vec![v.sync]
+                vec![v.sync()]
             } else {
                 syncs.clone()
             };

@@ -1,0 +1,218 @@
+//! A cell is a point in the study's declared space. Every swept dimension is declared once, in
+//! the `dimensions!` invocation below: its config key and defaults, whether serial cells have it,
+//! whether it defines a row of interleaved trials, how labels and table headings show it, the
+//! value labels leave out, and the check its values must pass.
+//!
+//! Everything that deals with cells reads this declaration: config parsing and validation
+//! ([`Axes`]), the sweep's expansion ([`Axes::cells`]), [`CellKey`] and its label, the CSV
+//! columns, the markdown grouping, `compare --by` and the chart variants. A new dimension is one
+//! entry here plus the code that implements it; `tests/cell_model.rs` walks every dimension
+//! through every output.
+
+mod declare;
+
+pub use declare::{DimValue, Value};
+
+use crate::frame_loop::{Mode, Threading, MAX_HELPERS};
+use crate::named::Named;
+use crate::ocean::{mesh::MAX_SIZE, Kernel, NormalMethod};
+use crate::sync::SyncMethod;
+use declare::{dim_values, dimensions};
+use itertools::Itertools;
+
+dim_values!(Mode, SyncMethod, Threading, NormalMethod, Kernel);
+
+dimensions! {
+    /// Mesh size N (N×N vertices).
+    Size(size: usize) {
+        config: sizes = [40, 128, 256],
+        cells: all,
+        row: true,
+        label: "{}",
+        title: "{0}×{0} mesh",
+        check: check_size,
+    }
+    /// Workload level, an index into `workload_levels`.
+    Workload(workload: usize) {
+        config: workloads = [0, 1, 2, 3],
+        cells: all,
+        row: true,
+        label: "w{}",
+        title: "workload {}",
+    }
+    /// Where the threads run: serial, up (one core) or dp (two cores).
+    Mode(mode: Mode) {
+        config: modes = [Mode::Serial, Mode::Up, Mode::Dp],
+        cells: all,
+        row: false,
+        label: "{}",
+        title: "{}",
+    }
+    /// The hand-off method.
+    Sync(sync: SyncMethod) {
+        config: sync = [SyncMethod::Atomic, SyncMethod::Mutex, SyncMethod::Condvar],
+        cells: threaded,
+        row: false,
+        label: "{}",
+        title: "{} hand-off",
+    }
+    /// How helper threads come to exist: a persistent pool or a thread per frame.
+    Threading(threading: Threading) {
+        config: threading = [Threading::Pool],
+        cells: threaded,
+        row: false,
+        label: "{}",
+        title: "{} helper",
+    }
+    /// Helper threads the mesh's rows are split among (loop-level decomposition).
+    Helpers(helpers: usize) {
+        config: helpers = [1],
+        cells: threaded,
+        row: false,
+        label: "h{}",
+        title: "{} helpers",
+        quiet: 1,
+        check: check_helpers,
+    }
+    /// How vertex normals are computed.
+    Normals(normals: NormalMethod) {
+        config: normals = [NormalMethod::Neighbors],
+        cells: all,
+        row: true,
+        label: "{}",
+        title: "{} normals",
+    }
+    /// Which kernel computes the mesh.
+    Kernel(kernel: Kernel) {
+        config: kernel = [Kernel::Reference],
+        cells: all,
+        row: true,
+        label: "{}",
+        title: "{} kernel",
+    }
+}
+
+fn check_size(&n: &usize) -> Result<(), String> {
+    if (2..=MAX_SIZE).contains(&n) {
+        Ok(())
+    } else {
+        Err(format!("{n} is not allowed; sizes are 2 to {MAX_SIZE}"))
+    }
+}
+
+fn check_helpers(&n: &usize) -> Result<(), String> {
+    if (1..=MAX_HELPERS).contains(&n) {
+        Ok(())
+    } else {
+        Err(format!("must be 1 to {MAX_HELPERS}, got {n}"))
+    }
+}
+
+/// Whether a cell with this mode is serial: the one rule that decides which dimensions apply.
+fn is_serial(mode: Option<Value>) -> bool {
+    mode == Some(Mode::Serial.value())
+}
+
+/// A config list must be non-empty, list no value twice, and pass its dimension's check.
+fn check_list<T: PartialEq + std::fmt::Debug + DimValue>(
+    key: &str,
+    list: &[T],
+    check: impl Fn(&T) -> Result<(), String>,
+) -> Result<(), String> {
+    if list.is_empty() {
+        return Err(format!("{key}: must list at least one value"));
+    }
+    for (i, v) in list.iter().enumerate() {
+        if list[..i].contains(v) {
+            return Err(format!("{key}: {} is listed twice", v.value()));
+        }
+        check(v).map_err(|e| format!("{key}: {e}"))?;
+    }
+    Ok(())
+}
+
+impl Dim {
+    /// The dimension called `name` (its cell field), or an error listing them.
+    pub fn named(name: &str) -> Result<Dim, String> {
+        <Dim as Named>::parse(name).map_err(|e| e.0)
+    }
+}
+
+impl CellKey {
+    /// Whether this cell runs everything on one thread.
+    pub fn is_serial(&self) -> bool {
+        self.mode == Mode::Serial
+    }
+
+    /// The same cell with `dim` set to `value`. Dimensions that stop applying follow the mode;
+    /// `None` when the new key would lack a value (a serial cell turned threaded has no method).
+    pub fn with(&self, dim: Dim, value: Value) -> Option<CellKey> {
+        CellKey::from_fn(|d| if d == dim { Some(value) } else { self.get(d) }).ok()
+    }
+
+    /// A short label such as `256 w2 dp atomic pool neighbors reference`: every value in
+    /// dimension order, leaving out quiet ones.
+    pub fn label(&self) -> String {
+        self.label_without(&[])
+    }
+
+    /// The label without the dimensions in `skip`.
+    pub fn label_without(&self, skip: &[Dim]) -> String {
+        Dim::ALL
+            .iter()
+            .filter(|d| !skip.contains(d))
+            .filter_map(|&d| {
+                let v = self.get(d)?;
+                (Some(v) != d.quiet()).then(|| d.label(v))
+            })
+            .join(" ")
+    }
+
+    /// The values of the row dimensions: cells with equal rows run interleaved.
+    pub fn row(&self) -> Vec<Option<Value>> {
+        Dim::ALL
+            .iter()
+            .filter(|d| d.row())
+            .map(|&d| self.get(d))
+            .collect()
+    }
+}
+
+impl Axes {
+    /// Every cell of the sweep, row by row: the cartesian product of the row dimensions, and
+    /// within each row the product of the others, each in declaration order. Serial cells drop
+    /// the hand-off dimensions, so a row has one serial cell however many methods it crosses.
+    pub fn cells(&self) -> Vec<CellKey> {
+        let product = |row: bool| {
+            let dims: Vec<Dim> = Dim::ALL
+                .iter()
+                .copied()
+                .filter(|d| d.row() == row)
+                .collect();
+            let lists: Vec<Vec<Value>> = dims.iter().map(|&d| self.values(d)).collect();
+            (
+                dims,
+                lists.into_iter().multi_cartesian_product().collect_vec(),
+            )
+        };
+        let (row_dims, rows) = product(true);
+        let (col_dims, cols) = product(false);
+        let mut out = Vec::new();
+        let mut seen = std::collections::HashSet::new();
+        for row in &rows {
+            for col in &cols {
+                let value = |d: Dim| {
+                    let at = |dims: &[Dim], vals: &[Value]| {
+                        dims.iter().position(|&x| x == d).map(|i| vals[i])
+                    };
+                    at(&row_dims, row).or_else(|| at(&col_dims, col))
+                };
+                let key = CellKey::from_fn(value).expect("every dimension has a listed value");
+                if seen.insert(key.clone()) {
+                    out.push(key);
+                }
+            }
+        }
+        out
+    }
+}

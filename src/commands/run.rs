@@ -1,0 +1,90 @@
+//! `oceanbench run`: measure the cells the flags describe and print their statistics.
+
+use super::{fail_on_errors, prepare_out_dir, CliError};
+use crate::cell::{Axes, Dim};
+use crate::cli::{DimArgs, RunArgs};
+use crate::config::{Level, SweepConfig};
+use crate::frame_loop::Mode;
+use crate::report;
+use crate::results::Results;
+use crate::sweep::Sweep;
+
+/// The cell `run` measures when its flags are left out: a mid-size mesh in DP, where the
+/// hand-off matters, rather than the sweep's first values.
+fn default_axes() -> Axes {
+    Axes {
+        sizes: vec![128],
+        workloads: vec![0],
+        modes: vec![Mode::Dp],
+        ..Axes::default()
+    }
+}
+
+/// Each dimension's flag replaces that dimension's list; the others keep `run`'s defaults.
+fn axes(cell: &DimArgs) -> Axes {
+    let mut axes = default_axes();
+    for &dim in Dim::ALL {
+        let values = match cell.get(dim) {
+            Some(given) => given.to_vec(),
+            None => axes.values(dim).into_iter().take(1).collect(),
+        };
+        axes.set(dim, &values)
+            .expect("flag values are parsed by their dimension");
+    }
+    axes
+}
+
+pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
+    let mut config = SweepConfig {
+        name: "run".into(),
+        axes: axes(&args.cell),
+        trials: args.trials,
+        min_frames: args.frames,
+        min_seconds: args.seconds,
+        max_seconds: (args.seconds * 10.0).max(10.0),
+        waves_file: args.waves,
+        cores: args.cores,
+        ..SweepConfig::default()
+    };
+    if let Some(us) = args.workload_micros {
+        config.workload_levels = vec![Level::micros(us)];
+        config.axes.workloads = vec![0];
+    }
+    if let Some(dir) = &args.out {
+        prepare_out_dir(dir)?;
+    }
+    let results = Sweep::prepare(config)?.run(&mut ());
+    if let Some(dir) = &args.out {
+        report::write_all(dir, &results).map_err(anyhow::Error::from)?;
+    }
+    print_cells(&results);
+    fail_on_errors(&results)
+}
+
+fn print_cells(results: &Results) {
+    println!("{}", report::markdown::preamble(results));
+    for cell in &results.cells {
+        println!("{}", cell.key.label());
+        match &cell.summary {
+            Some(s) => println!(
+                "  {:.1} FPS (trials {}; cv {:.1}%), frame median {:.3} ms, p99 {:.3} ms, 1% low {:.1} FPS\n  per frame: workload {:.3} ms, wait {:.3} ms, copy {:.3} ms, step {:.3} ms; pinned: {}",
+                s.fps,
+                s.fps_trials
+                    .iter()
+                    .map(|f| format!("{f:.1}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                s.fps_spread.cv_percent,
+                s.frame_time_ms.median,
+                s.frame_time_ms.p99,
+                s.one_percent_low_fps,
+                s.breakdown.workload_ms,
+                s.breakdown.wait_ms,
+                s.breakdown.copy_ms,
+                s.breakdown.step_ms,
+                cell.pinned
+            ),
+            None => println!("  failed: {}", cell.error.as_deref().unwrap_or("no frames")),
+        }
+    }
+}
