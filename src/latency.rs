@@ -3,7 +3,7 @@
 
 use crate::affinity;
 use crate::crosscore;
-use crate::measure::quantile;
+use crate::stats::{self, quantile};
 use crate::sync::{Handoff, Released, SyncMethod};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -33,14 +33,8 @@ pub struct LatencyRow {
 }
 
 impl LatencyRow {
-    fn from_samples(
-        method: &str,
-        main: usize,
-        helper: usize,
-        mut ns: Vec<f64>,
-        pinned: bool,
-    ) -> Self {
-        ns.sort_by(f64::total_cmp);
+    fn from_samples(method: &str, main: usize, helper: usize, ns: Vec<f64>, pinned: bool) -> Self {
+        let ns = stats::sorted(&ns);
         LatencyRow {
             method: method.to_string(),
             main_core: main,

@@ -15,6 +15,7 @@ pub mod named;
 pub mod ocean;
 pub mod report;
 pub mod results;
+pub mod stats;
 pub mod suggest;
 pub mod sweep;
 pub mod sync;

@@ -1,6 +1,7 @@
 //! Frame statistics: average FPS as frames ÷ elapsed time, frame-time percentiles, the 1% low,
 //! the per-frame breakdown, and the spread over trials.
 
+use crate::stats::{self, quantile};
 use serde::{Deserialize, Serialize};
 
 /// What the main thread timed in one frame (nanoseconds).
@@ -112,20 +113,6 @@ pub struct Summary {
     pub seconds: f64,
 }
 
-/// Value at quantile `q` of sorted values, nearest rank.
-pub fn quantile(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
-        return f64::NAN;
-    }
-    let rank = (q * sorted.len() as f64).ceil() as usize;
-    sorted[rank.clamp(1, sorted.len()) - 1]
-}
-
-fn mean(values: impl ExactSizeIterator<Item = f64>) -> f64 {
-    let n = values.len();
-    values.sum::<f64>() / n as f64
-}
-
 impl Summary {
     /// Summarises the trials of one cell; `None` when no frame was measured.
     pub fn of(trials: &[Trial]) -> Option<Summary> {
@@ -134,36 +121,32 @@ impl Summary {
             return None;
         }
         let ms = |ns: u64| ns as f64 * 1e-6;
-        let mut times: Vec<f64> = all.iter().map(|f| ms(f.total_ns)).collect();
-        times.sort_by(f64::total_cmp);
+        let times = stats::sorted(&all.iter().map(|f| ms(f.total_ns)).collect::<Vec<_>>());
         let seconds: f64 = trials.iter().map(Trial::seconds).sum();
         let fps_trials: Vec<f64> = trials
             .iter()
             .filter(|t| !t.frames.is_empty())
             .map(Trial::fps)
             .collect();
-        let avg = mean(fps_trials.iter().copied());
-        let stddev = if fps_trials.len() > 1 {
-            (fps_trials.iter().map(|f| (f - avg).powi(2)).sum::<f64>()
-                / (fps_trials.len() - 1) as f64)
-                .sqrt()
-        } else {
-            0.0
-        };
+        let avg = stats::mean(&fps_trials);
+        let stddev = stats::stddev(&fps_trials);
+        let (min, max) = stats::min_max(&fps_trials);
         let slowest = (times.len() / 100).max(1);
         let slow_ms: f64 = times[times.len() - slowest..].iter().sum();
-        let part = |f: fn(&FrameRecord) -> u64| mean(all.iter().map(|r| ms(f(r))));
+        let part = |f: fn(&FrameRecord) -> u64| {
+            stats::mean(&all.iter().map(|r| ms(f(r))).collect::<Vec<_>>())
+        };
         Some(Summary {
             fps: all.len() as f64 / seconds,
             fps_spread: Spread {
-                min: fps_trials.iter().copied().fold(f64::INFINITY, f64::min),
-                max: fps_trials.iter().copied().fold(0.0, f64::max),
+                min,
+                max,
                 stddev,
                 cv_percent: 100.0 * stddev / avg,
             },
             fps_trials,
             frame_time_ms: FrameTimes {
-                mean: mean(times.iter().copied()),
+                mean: stats::mean(&times),
                 median: quantile(&times, 0.5),
                 p99: quantile(&times, 0.99),
                 max: times[times.len() - 1],
@@ -172,11 +155,7 @@ impl Summary {
                 .iter()
                 .map(|&q| Quantile {
                     q,
-                    ms: if q == 0.0 {
-                        times[0]
-                    } else {
-                        quantile(&times, q)
-                    },
+                    ms: quantile(&times, q),
                 })
                 .collect(),
             one_percent_low_fps: slowest as f64 * 1e3 / slow_ms,

@@ -10,6 +10,7 @@ use crate::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
 use crate::results::{
     CalibrationRecord, Cell, CellKey, LevelRecord, Pins, Placement, Results, StepTime,
 };
+use crate::stats;
 use crate::sync::SyncMethod;
 use crate::workload::Calibration;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -44,8 +45,7 @@ pub fn step_time_ms(size: usize, spacing: f32, waves: &WaveSet) -> f64 {
             break;
         }
     }
-    times.sort_by(f64::total_cmp);
-    times[times.len() / 2]
+    stats::median(&times)
 }
 
 /// Measures the workload speed and the step times the levels refer to, and resolves every level

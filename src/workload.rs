@@ -2,6 +2,7 @@
 //! dependent chain of integer mixing the compiler can neither vectorise nor remove, and never a
 //! sleep (a sleeping main thread would free the core and falsify the one-core `up` mode).
 
+use crate::stats;
 use serde::{Deserialize, Serialize};
 use std::hint::black_box;
 use std::time::Instant;
@@ -40,17 +41,15 @@ impl Calibration {
         let per_iter = t.elapsed().as_secs_f64() / probe as f64;
         let sample_iterations = ((2e-3 / per_iter.max(1e-10)) as u64).clamp(probe, 1 << 26);
         black_box(run(sample_iterations, 2));
-        let mut samples_ns: Vec<f64> = (0..samples.max(1))
+        let samples_ns_per_iteration: Vec<f64> = (0..samples.max(1))
             .map(|s| {
                 let t = Instant::now();
                 black_box(run(sample_iterations, s as u64));
                 t.elapsed().as_nanos() as f64 / sample_iterations as f64
             })
             .collect();
-        let samples_ns_per_iteration = samples_ns.clone();
-        samples_ns.sort_by(f64::total_cmp);
         Calibration {
-            ns_per_iteration: samples_ns[samples_ns.len() / 2],
+            ns_per_iteration: stats::median(&samples_ns_per_iteration),
             sample_iterations,
             samples_ns_per_iteration,
         }

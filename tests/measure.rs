@@ -1,6 +1,7 @@
 //! Frame statistics on known frame times, and the workload's determinism.
 
-use oceanbench::measure::{quantile, FrameRecord, Summary, Trial};
+use oceanbench::measure::{FrameRecord, Summary, Trial};
+use oceanbench::stats::quantile;
 use oceanbench::workload;
 
 fn trial(ms: &[u64]) -> Trial {

@@ -7,8 +7,8 @@
 //! noise" rather than as a coin flip.
 
 use crate::cell::{Dim, Value};
-use crate::measure::quantile;
 use crate::results::{Cell, CellKey, Results};
+use crate::stats;
 use itertools::Itertools;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -321,7 +321,7 @@ impl Comparison {
                     continue;
                 }
             };
-            let seed = fnv1a(&format!("{} {:?}", p.label, p.versus));
+            let seed = stats::seed_from(&format!("{} {:?}", p.label, p.versus));
             self.changes
                 .push(change(p.label, p.versus, &b, &n, threshold, seed));
         }
@@ -537,10 +537,6 @@ fn pct(v: f64) -> String {
     format!("{v:+.1}%")
 }
 
-fn mean(values: &[f64]) -> f64 {
-    values.iter().sum::<f64>() / values.len() as f64
-}
-
 fn change(
     label: String,
     versus: Option<String>,
@@ -549,14 +545,14 @@ fn change(
     threshold: f64,
     seed: u64,
 ) -> Change {
-    let (base_fps, new_fps) = (mean(base), mean(new));
+    let (base_fps, new_fps) = (stats::mean(base), stats::mean(new));
     let change_pct = (new_fps / base_fps - 1.0) * 100.0;
     // One trial has no spread to resample; pretending otherwise would invent certainty.
     let single_trial = base.len() < 2 || new.len() < 2;
     let (ci_low_pct, ci_high_pct) = if single_trial {
         (change_pct, change_pct)
     } else {
-        bootstrap(base, new, seed)
+        stats::bootstrap_change_pct(base, new, RESAMPLES, seed)
     };
     let verdict = if ci_low_pct > threshold {
         Verdict::Improved
@@ -576,47 +572,4 @@ fn change(
         single_trial,
         verdict,
     }
-}
-
-/// 95% percentile interval of the change of the ratio of means, in percent.
-fn bootstrap(base: &[f64], new: &[f64], seed: u64) -> (f64, f64) {
-    let mut rng = SplitMix64(seed);
-    let mut resample = |xs: &[f64]| {
-        let sum: f64 = (0..xs.len()).map(|_| xs[rng.below(xs.len())]).sum();
-        sum / xs.len() as f64
-    };
-    let mut ratios: Vec<f64> = (0..RESAMPLES)
-        .map(|_| {
-            let b = resample(base);
-            let n = resample(new);
-            (n / b - 1.0) * 100.0
-        })
-        .collect();
-    ratios.sort_by(f64::total_cmp);
-    (quantile(&ratios, 0.025), quantile(&ratios, 0.975))
-}
-
-/// SplitMix64: a tiny, well-mixed generator; the interval must be the same on every run.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `0..n` by multiply-shift; the bias is far below anything a 95% interval shows.
-    fn below(&mut self, n: usize) -> usize {
-        ((u128::from(self.next()) * n as u128) >> 64) as usize
-    }
-}
-
-/// Seeds each pair from its label, so a cell's interval does not depend on which cells precede it.
-fn fnv1a(s: &str) -> u64 {
-    s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
-    })
 }
