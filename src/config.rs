@@ -9,16 +9,7 @@ use crate::suggest;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-/// A problem with user input: printed as one line, exit status 2.
-#[derive(Debug, thiserror::Error)]
-#[error("{0}")]
-pub struct InputError(pub String);
-
-impl From<String> for InputError {
-    fn from(s: String) -> Self {
-        InputError(s)
-    }
-}
+pub use crate::input::InputError;
 
 /// One workload level: microseconds of one core's work, or a fraction of a mesh size's step.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -170,7 +161,7 @@ fn parse_config(text: &str) -> Result<SweepConfig, InputError> {
             return Err(InputError(suggest::unknown("field", key, &known)));
         }
         if let Some(parsed) = Axes::parse_key(key, list.clone()) {
-            parsed.map_err(InputError)?;
+            parsed?;
         }
     }
     serde_path_to_error::deserialize(value).map_err(|e| {
@@ -297,7 +288,7 @@ impl SweepConfig {
                 self.name
             )));
         }
-        self.axes.check().map_err(InputError)?;
+        self.axes.check()?;
         if self.workload_levels.is_empty() {
             return Err(InputError(
                 "workload_levels: must list at least one value".into(),

@@ -5,6 +5,7 @@
 //! portion on another".
 
 use crate::affinity::{self, Pin};
+use crate::input::InputError;
 use crate::measure::{FrameRecord, Trial};
 use crate::ocean::{Grid, Kernel, Mesh, MeshRows, NormalMethod, Ocean, WaveSet};
 use crate::sync::{Handoff, Released, Slot, SyncMethod};
@@ -118,7 +119,7 @@ impl LoopSpec {
     }
 
     /// Checks what `helpers` > 1 needs: a persistent pool, analytic normals, a band per helper.
-    pub fn check_helpers(&self) -> Result<(), String> {
+    pub fn check_helpers(&self) -> Result<(), InputError> {
         check_helpers(
             self.helpers,
             self.mode,
@@ -146,25 +147,25 @@ pub fn check_helpers(
     threading: Threading,
     normals: NormalMethod,
     size: usize,
-) -> Result<(), String> {
+) -> Result<(), InputError> {
     if !(1..=MAX_HELPERS).contains(&helpers) {
-        return Err(format!(
+        return Err(InputError(format!(
             "helpers: must be 1 to {MAX_HELPERS}, got {helpers}"
-        ));
+        )));
     }
     if helpers == 1 || mode == Mode::Serial {
         return Ok(());
     }
     if threading == Threading::Spawn {
-        return Err(format!(
+        return Err(InputError(format!(
             "helpers: {helpers} helpers need threading `pool`; `spawn` starts one thread per \
              frame and is kept as the paper's single-helper first build"
-        ));
+        )));
     }
     if helpers > size {
-        return Err(format!(
+        return Err(InputError(format!(
             "helpers: {helpers} helpers need at least one row each; size {size} has {size} rows"
-        ));
+        )));
     }
     Ocean::splits_into_rows(normals)
 }
@@ -232,8 +233,8 @@ pub enum LoopError {
     #[error("helper thread failed: {0}")]
     Helper(String),
     /// The spec is not runnable (e.g. `lookup` on too large a grid).
-    #[error("{0}")]
-    Spec(String),
+    #[error(transparent)]
+    Spec(#[from] InputError),
     /// The stop flag was raised; the trial is incomplete.
     #[error("interrupted")]
     Interrupted,

@@ -8,6 +8,7 @@ pub mod commands;
 pub mod config;
 pub mod crosscore;
 pub mod frame_loop;
+pub mod input;
 pub mod latency;
 pub mod machine;
 pub mod measure;

@@ -8,7 +8,7 @@ use crate::machine::Machine;
 use crate::measure::Summary;
 use crate::workload::Calibration;
 use serde::{Deserialize, Serialize};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The cores a cell ran on and whether the pins held.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -127,18 +127,40 @@ pub struct Results {
     pub cells: Vec<Cell>,
 }
 
+/// Why a results file could not be read; each names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file could not be read.
+    #[error("results {}: {source}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// What the OS said.
+        source: std::io::Error,
+    },
+    /// The file is not a results file.
+    #[error("{}: not an oceanbench results file: {source}", path.display())]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// What the parser said.
+        source: serde_json::Error,
+    },
+}
+
 impl Results {
     /// Reads a results file, or the `results.json` inside a results directory.
-    pub fn load(path: &Path) -> Result<Results, String> {
-        let file = if path.is_dir() {
+    pub fn load(path: &Path) -> Result<Results, LoadError> {
+        let path = if path.is_dir() {
             path.join("results.json")
         } else {
             path.to_path_buf()
         };
-        let text = std::fs::read_to_string(&file)
-            .map_err(|e| format!("results {}: {e}", file.display()))?;
-        serde_json::from_str(&text)
-            .map_err(|e| format!("{}: not an oceanbench results file: {e}", file.display()))
+        let text = match std::fs::read_to_string(&path) {
+            Ok(text) => text,
+            Err(source) => return Err(LoadError::Read { path, source }),
+        };
+        serde_json::from_str(&text).map_err(|source| LoadError::Parse { path, source })
     }
 
     /// The cell with `key`, if it was measured.

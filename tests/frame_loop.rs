@@ -194,7 +194,7 @@ fn unsupported_helper_counts_are_refused_with_the_reason() {
         let mut s = spec(Mode::Up, SyncMethod::Atomic, threading, normals);
         s.helpers = helpers;
         match frame_loop::run(&s, &Budget::exact(1), |_, _| {}) {
-            Err(frame_loop::LoopError::Spec(msg)) => msg,
+            Err(frame_loop::LoopError::Spec(e)) => e.to_string(),
             other => panic!("expected a spec error, got {:?}", other.map(|_| ())),
         }
     };

@@ -1,6 +1,7 @@
 //! The machinery behind the declaration in `cell/mod.rs`: what one line of `dimensions!`
 //! generates, and the value type every dimension shares with the outputs.
 
+use crate::input::InputError;
 use std::fmt;
 
 /// One dimension's value in a cell, as configs, labels and tables show it.
@@ -28,7 +29,7 @@ pub trait DimValue: Copy + PartialEq + Sized {
     /// The typed value back, when `value` is one of this type's.
     fn from_value(value: Value) -> Option<Self>;
     /// Parses a value given on the command line.
-    fn parse(text: &str) -> Result<Self, String>;
+    fn parse(text: &str) -> Result<Self, InputError>;
     /// Every value, for types with a fixed set of them.
     fn names() -> Option<Vec<&'static str>> {
         None
@@ -45,9 +46,9 @@ impl DimValue for usize {
             Value::Name(_) => None,
         }
     }
-    fn parse(text: &str) -> Result<Self, String> {
+    fn parse(text: &str) -> Result<Self, InputError> {
         text.parse()
-            .map_err(|_| format!("`{text}` is not a whole number >= 0"))
+            .map_err(|_| InputError(format!("`{text}` is not a whole number >= 0")))
     }
 }
 
@@ -64,8 +65,8 @@ macro_rules! dim_values {
                     $crate::cell::Value::Count(_) => None,
                 }
             }
-            fn parse(text: &str) -> Result<Self, String> {
-                <$t as $crate::named::Named>::parse(text).map_err(|e| e.0)
+            fn parse(text: &str) -> Result<Self, $crate::input::InputError> {
+                <$t as $crate::named::Named>::parse(text).map_err(|e| $crate::input::InputError(e.0))
             }
             fn names() -> Option<Vec<&'static str>> {
                 Some(<$t as $crate::named::Named>::names())
@@ -204,7 +205,7 @@ macro_rules! dimensions {
             }
 
             /// Parses one of this dimension's values, as given on the command line.
-            pub fn parse_value(self, text: &str) -> Result<Value, String> {
+            pub fn parse_value(self, text: &str) -> Result<Value, $crate::input::InputError> {
                 match self {
                     $(Dim::$variant => <$ty as $crate::cell::DimValue>::parse(text)
                         .map($crate::cell::DimValue::value),)+
@@ -226,8 +227,8 @@ macro_rules! dimensions {
         }
 
         impl TryFrom<StoredKey> for CellKey {
-            type Error = String;
-            fn try_from(stored: StoredKey) -> Result<CellKey, String> {
+            type Error = $crate::input::InputError;
+            fn try_from(stored: StoredKey) -> Result<CellKey, $crate::input::InputError> {
                 CellKey::from_fn(|dim| match dim {
                     $(Dim::$variant => stored.$field.map($crate::cell::DimValue::value),)+
                 })
@@ -246,22 +247,26 @@ macro_rules! dimensions {
 
             /// Builds a key from each dimension's value; serial cells drop the hand-off
             /// dimensions and an absent value takes the dimension's quiet value.
-            pub fn from_fn(mut value: impl FnMut(Dim) -> Option<Value>) -> Result<CellKey, String> {
+            pub fn from_fn(
+                mut value: impl FnMut(Dim) -> Option<Value>,
+            ) -> Result<CellKey, $crate::input::InputError> {
                 let serial = $crate::cell::is_serial(value(Dim::Mode));
-                let mut resolve = |dim: Dim| -> Result<Option<Value>, String> {
+                let mut resolve = |dim: Dim| -> Result<Option<Value>, $crate::input::InputError> {
                     if serial && !dim.in_serial_cells() {
                         return Ok(None);
                     }
                     value(dim)
                         .or(dim.quiet())
                         .map(Some)
-                        .ok_or_else(|| format!("missing field `{}`", $crate::named::Named::name(dim)))
+                        .ok_or_else(|| $crate::input::InputError(
+                            format!("missing field `{}`", $crate::named::Named::name(dim))))
                 };
                 Ok(CellKey {
                     $($field: {
                         let typed = match resolve(Dim::$variant)? {
                             Some(v) => Some(<$ty as $crate::cell::DimValue>::from_value(v).ok_or_else(|| {
-                                format!("{}: `{v}` is not a value of this dimension", stringify!($field))
+                                $crate::input::InputError(format!(
+                                    "{}: `{v}` is not a value of this dimension", stringify!($field)))
                             })?),
                             None => None,
                         };
@@ -296,13 +301,14 @@ macro_rules! dimensions {
 
             /// Replaces the list of `dim` with `values`; an error names a value of another
             /// dimension.
-            pub fn set(&mut self, dim: Dim, values: &[Value]) -> Result<(), String> {
+            pub fn set(&mut self, dim: Dim, values: &[Value]) -> Result<(), $crate::input::InputError> {
                 match dim {
                     $(Dim::$variant => {
                         self.$key = values
                             .iter()
                             .map(|&v| <$ty as $crate::cell::DimValue>::from_value(v)
-                                .ok_or_else(|| format!("{}: `{v}` is not a value of this dimension", stringify!($key))))
+                                .ok_or_else(|| $crate::input::InputError(format!(
+                                    "{}: `{v}` is not a value of this dimension", stringify!($key)))))
                             .collect::<Result<_, _>>()?;
                     })+
                 }
@@ -311,21 +317,24 @@ macro_rules! dimensions {
 
             /// Parses one config key's list alone, so an error names its place
             /// (`modes[1]: ...`); `None` when `key` is no dimension's.
-            pub fn parse_key(key: &str, list: serde_json::Value) -> Option<Result<(), String>> {
+            pub fn parse_key(
+                key: &str,
+                list: serde_json::Value,
+            ) -> Option<Result<(), $crate::input::InputError>> {
                 $(if key == stringify!($key) {
                     return Some(serde_path_to_error::deserialize::<_, Vec<$ty>>(list)
                         .map(|_| ())
                         .map_err(|e| {
                             let at = e.path().to_string();
                             let msg = e.into_inner().to_string();
-                            format!("{key}{}: {msg}", at.trim_start_matches('.'))
+                            $crate::input::InputError(format!("{key}{}: {msg}", at.trim_start_matches('.')))
                         }));
                 })+
                 None
             }
 
             /// Every list has a value, no value twice, and each passes its dimension's check.
-            pub fn check(&self) -> Result<(), String> {
+            pub fn check(&self) -> Result<(), $crate::input::InputError> {
                 $(
                     $crate::cell::check_list(stringify!($key), &self.$key,
                         $crate::cell::declare::check_fn!($($check)?))?;

@@ -14,7 +14,7 @@ mod declare;
 pub use declare::{DimValue, Value};
 
 use crate::frame_loop::{Mode, Threading, MAX_HELPERS};
-use crate::named::Named;
+use crate::input::InputError;
 use crate::ocean::{mesh::MAX_SIZE, Kernel, NormalMethod};
 use crate::sync::SyncMethod;
 use declare::{dim_values, dimensions};
@@ -92,19 +92,21 @@ dimensions! {
     }
 }
 
-fn check_size(&n: &usize) -> Result<(), String> {
+fn check_size(&n: &usize) -> Result<(), InputError> {
     if (2..=MAX_SIZE).contains(&n) {
         Ok(())
     } else {
-        Err(format!("{n} is not allowed; sizes are 2 to {MAX_SIZE}"))
+        Err(InputError(format!(
+            "{n} is not allowed; sizes are 2 to {MAX_SIZE}"
+        )))
     }
 }
 
-fn check_helpers(&n: &usize) -> Result<(), String> {
+fn check_helpers(&n: &usize) -> Result<(), InputError> {
     if (1..=MAX_HELPERS).contains(&n) {
         Ok(())
     } else {
-        Err(format!("must be 1 to {MAX_HELPERS}, got {n}"))
+        Err(InputError(format!("must be 1 to {MAX_HELPERS}, got {n}")))
     }
 }
 
@@ -117,25 +119,18 @@ fn is_serial(mode: Option<Value>) -> bool {
 fn check_list<T: PartialEq + std::fmt::Debug + DimValue>(
     key: &str,
     list: &[T],
-    check: impl Fn(&T) -> Result<(), String>,
-) -> Result<(), String> {
+    check: impl Fn(&T) -> Result<(), InputError>,
+) -> Result<(), InputError> {
     if list.is_empty() {
-        return Err(format!("{key}: must list at least one value"));
+        return Err(InputError(format!("{key}: must list at least one value")));
     }
     for (i, v) in list.iter().enumerate() {
         if list[..i].contains(v) {
-            return Err(format!("{key}: {} is listed twice", v.value()));
+            return Err(InputError(format!("{key}: {} is listed twice", v.value())));
         }
-        check(v).map_err(|e| format!("{key}: {e}"))?;
+        check(v).map_err(|e| InputError(format!("{key}: {e}")))?;
     }
     Ok(())
-}
-
-impl Dim {
-    /// The dimension called `name` (its cell field), or an error listing them.
-    pub fn named(name: &str) -> Result<Dim, String> {
-        <Dim as Named>::parse(name).map_err(|e| e.0)
-    }
 }
 
 impl CellKey {

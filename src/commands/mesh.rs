@@ -33,7 +33,7 @@ fn shortest<S: serde::Serializer>(v: &f32, s: S) -> Result<S::Ok, S::Error> {
 }
 
 pub(super) fn mesh(args: MeshArgs) -> Result<(), CliError> {
-    let grid = Grid::new(args.size, args.spacing).map_err(InputError)?;
+    let grid = Grid::new(args.size, args.spacing)?;
     if !args.time.is_finite() {
         return Err(InputError(format!(
             "--time: must be a finite number, got {}",
@@ -45,7 +45,7 @@ pub(super) fn mesh(args: MeshArgs) -> Result<(), CliError> {
         Some(path) => WaveSet::load(path).map_err(|e| InputError(e.to_string()))?,
         None => WaveSet::default(),
     };
-    let mut ocean = Ocean::new(grid, waves, args.normals, args.kernel).map_err(InputError)?;
+    let mut ocean = Ocean::new(grid, waves, args.normals, args.kernel)?;
     let mut mesh = Mesh::new(grid);
     ocean.step(args.time, &mut mesh);
     let file = std::fs::File::create(&args.out)

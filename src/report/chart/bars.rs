@@ -1,7 +1,7 @@
 //! The grouped-bar charts: Figure 5-1, DP ÷ UP and the hand-off methods.
 
 use super::render::{Bar, BarPanel, BarPlot, Body, Chart, Frame, Legend, RefLine};
-use super::{mode_name, Missing, Runs, CHART_SIZE};
+use super::{mode_name, Missing, NothingToDraw, Runs, CHART_SIZE};
 use crate::frame_loop::Mode;
 use plotters::style::RGBColor;
 
@@ -48,8 +48,10 @@ fn size_caption(size: usize) -> String {
 }
 
 /// Figure 5-1: FPS per workload, one panel per mesh size, serial / UP / DP bars.
-pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, String> {
-    let v = runs.variant().ok_or("no cells in the results")?;
+pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, NothingToDraw> {
+    let v = runs
+        .variant()
+        .ok_or(NothingToDraw::new("no cells in the results"))?;
     let modes = runs.modes();
     let workloads = runs.workloads();
     let mut missing = Missing::default();
@@ -92,7 +94,10 @@ pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, String> {
         }
     }
     if panels.is_empty() {
-        return Err(format!("no measured cell with {}", v.describe(true)));
+        return Err(NothingToDraw(format!(
+            "no measured cell with {}",
+            v.describe(true)
+        )));
     }
     let mut lines = runs.machine_lines();
     lines.push(format!(
@@ -122,8 +127,10 @@ pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, String> {
 }
 
 /// DP ÷ UP and DP ÷ serial per workload, one panel per size, with the ideal 2.0.
-pub(super) fn relative(runs: &Runs) -> Result<Chart, String> {
-    let v = runs.variant().ok_or("no cells in the results")?;
+pub(super) fn relative(runs: &Runs) -> Result<Chart, NothingToDraw> {
+    let v = runs
+        .variant()
+        .ok_or(NothingToDraw::new("no cells in the results"))?;
     let workloads = runs.workloads();
     let pairs = [(Mode::Up, "DP ÷ UP"), (Mode::Serial, "DP ÷ serial")];
     let colors = [RGBColor(0x00, 0x72, 0xb2), RGBColor(0x00, 0x9e, 0x73)];
@@ -178,10 +185,10 @@ pub(super) fn relative(runs: &Runs) -> Result<Chart, String> {
         }
     }
     if panels.is_empty() {
-        return Err(format!(
+        return Err(NothingToDraw(format!(
             "no DP cell with a UP or serial cell to divide by ({})",
             v.describe(true)
-        ));
+        )));
     }
     let mut lines = runs.machine_lines();
     lines.push(format!(
@@ -211,13 +218,15 @@ pub(super) fn relative(runs: &Runs) -> Result<Chart, String> {
 }
 
 /// Each hand-off method's FPS in UP and DP, one panel per size at the highest workload.
-pub(super) fn sync(runs: &Runs) -> Result<Chart, String> {
-    let v = runs.variant().ok_or("no cells in the results")?;
+pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
+    let v = runs
+        .variant()
+        .ok_or(NothingToDraw::new("no cells in the results"))?;
     let syncs = runs.syncs();
     let workload = *runs
         .workloads()
         .last()
-        .ok_or("no workloads in the results")?;
+        .ok_or(NothingToDraw::new("no workloads in the results"))?;
     let modes = [Mode::Up, Mode::Dp];
     let mut missing = Missing::default();
     let mut legend = vec![];
@@ -267,10 +276,10 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, String> {
         }
     }
     if panels.is_empty() {
-        return Err(format!(
+        return Err(NothingToDraw(format!(
             "no threaded cell at workload {workload} ({})",
             v.describe(false)
-        ));
+        )));
     }
     let mut lines = runs.machine_lines();
     lines.push(format!(

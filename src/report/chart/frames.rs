@@ -2,7 +2,7 @@
 
 use super::bars::shade;
 use super::render::{Body, Chart, Frame, Legend, LinePanel, LinePlot, Series, StackPlot, StackRow};
-use super::{mode_name, short_mode, Missing, Runs, CHART_SIZE};
+use super::{mode_name, short_mode, Missing, NothingToDraw, Runs, CHART_SIZE};
 use crate::frame_loop::Mode;
 use crate::measure::{Summary, QUANTILES};
 use crate::sync::SyncMethod;
@@ -55,9 +55,14 @@ fn focus_text(size: usize, workload: usize) -> String {
 }
 
 /// Frame-time points per hand-off method, one panel per threaded mode, serial in each.
-pub(super) fn frame_times(runs: &Runs, focus: Option<(usize, usize)>) -> Result<Chart, String> {
-    let (size, workload) = focus.ok_or("no measured cell in the results")?;
-    let v = runs.variant().ok_or("no cells in the results")?;
+pub(super) fn frame_times(
+    runs: &Runs,
+    focus: Option<(usize, usize)>,
+) -> Result<Chart, NothingToDraw> {
+    let (size, workload) = focus.ok_or(NothingToDraw::new("no measured cell in the results"))?;
+    let v = runs
+        .variant()
+        .ok_or(NothingToDraw::new("no cells in the results"))?;
     let syncs = runs.syncs();
     let mut missing = Missing::default();
     let mut legend = vec![];
@@ -115,10 +120,10 @@ pub(super) fn frame_times(runs: &Runs, focus: Option<(usize, usize)>) -> Result<
         });
     }
     if !any {
-        return Err(format!(
+        return Err(NothingToDraw(format!(
             "no measured cell at {}",
             focus_text(size, workload)
-        ));
+        )));
     }
     let mut lines = runs.machine_lines();
     lines.push(if all_have_quantiles {
@@ -163,13 +168,18 @@ pub(super) fn frame_times(runs: &Runs, focus: Option<(usize, usize)>) -> Result<
 }
 
 /// The mean frame split into workload, wait, copy and the mesh step, one row per mode and method.
-pub(super) fn breakdown(runs: &Runs, focus: Option<(usize, usize)>) -> Result<Chart, String> {
+pub(super) fn breakdown(
+    runs: &Runs,
+    focus: Option<(usize, usize)>,
+) -> Result<Chart, NothingToDraw> {
     const WORKLOAD: usize = 0;
     const WAIT: usize = 1;
     const COPY: usize = 2;
     const STEP: usize = 3;
-    let (size, workload) = focus.ok_or("no measured cell in the results")?;
-    let v = runs.variant().ok_or("no cells in the results")?;
+    let (size, workload) = focus.ok_or(NothingToDraw::new("no measured cell in the results"))?;
+    let v = runs
+        .variant()
+        .ok_or(NothingToDraw::new("no cells in the results"))?;
     let syncs = runs.syncs();
     let modes = runs.modes();
     let mut missing = Missing::default();
@@ -218,10 +228,10 @@ pub(super) fn breakdown(runs: &Runs, focus: Option<(usize, usize)>) -> Result<Ch
         }
     }
     if rows.is_empty() {
-        return Err(format!(
+        return Err(NothingToDraw(format!(
             "no measured cell at {}",
             focus_text(size, workload)
-        ));
+        )));
     }
     let colors = vec![
         RGBColor(0x00, 0x72, 0xb2),

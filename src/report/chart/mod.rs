@@ -89,6 +89,17 @@ impl Default for ChartOptions {
     }
 }
 
+/// Why a chart has nothing to draw (it is skipped, and the reason printed).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct NothingToDraw(pub String);
+
+impl NothingToDraw {
+    fn new(reason: &str) -> NothingToDraw {
+        NothingToDraw(reason.to_string())
+    }
+}
+
 /// A chart that was not drawn, and why.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Skipped {
@@ -157,7 +168,7 @@ pub fn draw_with(
                     drawn.files.push(path);
                 }
             }
-            Err(reason) => drawn.skipped.push(Skipped {
+            Err(NothingToDraw(reason)) => drawn.skipped.push(Skipped {
                 chart: name,
                 reason,
             }),

@@ -165,17 +165,22 @@ pub(super) fn write(chart: &Chart, path: &Path, format: ChartFormat) -> Result<(
             chart,
         ),
     };
-    drawn.map_err(|message| ChartError::Draw {
+    drawn.map_err(|e| ChartError::Draw {
         path: path.to_path_buf(),
-        message,
+        message: e.to_string(),
     })
 }
 
-fn err(e: impl std::fmt::Display) -> String {
-    e.to_string()
+/// What a plotters backend reported; its error type differs per backend, so it is kept as text.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub(super) struct DrawError(String);
+
+fn err(e: impl std::fmt::Display) -> DrawError {
+    DrawError(e.to_string())
 }
 
-fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, chart: &Chart) -> Result<(), String> {
+fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, chart: &Chart) -> Result<(), DrawError> {
     root.fill(&WHITE).map_err(err)?;
     let body = frame(root, &chart.frame)?;
     match &chart.body {
@@ -192,7 +197,7 @@ fn wrap<DB: DrawingBackend>(
     text: &str,
     style: &TextStyle,
     width: u32,
-) -> Result<Vec<String>, String> {
+) -> Result<Vec<String>, DrawError> {
     let mut out = vec![];
     let mut line = String::new();
     for word in text.split(' ') {
@@ -215,7 +220,7 @@ fn wrap<DB: DrawingBackend>(
 fn frame<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     frame: &Frame,
-) -> Result<DrawingArea<DB, Shift>, String> {
+) -> Result<DrawingArea<DB, Shift>, DrawError> {
     let (w, h) = root.dim_in_pixel();
     let inner = w - 2 * PAD as u32;
     let mut y = 14;
@@ -331,7 +336,10 @@ fn bar_top(bar: &Bar) -> f64 {
     bar.range.map_or(bar.value, |(_, hi)| hi.max(bar.value))
 }
 
-fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, plot: &BarPlot) -> Result<(), String> {
+fn bars<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    plot: &BarPlot,
+) -> Result<(), DrawError> {
     let panel_top = |p: &BarPanel| {
         p.bars
             .iter()
@@ -358,7 +366,7 @@ fn bar_panel<DB: DrawingBackend>(
     plot: &BarPlot,
     panel: &BarPanel,
     y_max: f64,
-) -> Result<(), String> {
+) -> Result<(), DrawError> {
     let n = panel.groups.len().max(1);
     let mut chart = ChartBuilder::on(area)
         .caption(&panel.caption, font(19.0))
@@ -454,7 +462,10 @@ fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
     ticks
 }
 
-fn lines<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, plot: &LinePlot) -> Result<(), String> {
+fn lines<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    plot: &LinePlot,
+) -> Result<(), DrawError> {
     let values = || {
         plot.panels
             .iter()
@@ -530,7 +541,7 @@ fn lines<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, plot: &LinePlot) -> 
 fn stacks<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     plot: &StackPlot,
-) -> Result<(), String> {
+) -> Result<(), DrawError> {
     let n = plot.rows.len().max(1);
     let top = plot
         .rows
