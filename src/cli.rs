@@ -30,7 +30,7 @@ pub struct Cli {
 pub enum Command {
     /// Measure one cell (or the few its flags list) and print its statistics.
     #[command(
-        after_help = "Every flag of a cell's dimensions takes one value or a comma-separated list.\n\nExamples:\n  oceanbench run --size 256 --workload 3 --mode up --sync mutex --trials 3\n  oceanbench run --mode up,dp --sync atomic,condvar"
+        after_help = "Every flag of a cell's dimensions takes one value or a comma-separated list; a flag left out takes run's default: a 128×128 mesh in dp at workload 0, and the sweep's first value of every other dimension.\n\nExamples:\n  oceanbench run --size 256 --workload 3 --mode up --sync mutex --trials 3\n  oceanbench run --mode up,dp --sync atomic,condvar"
     )]
     Run(RunArgs),
     /// Run a sweep config (default: the built-in Figure 5-1 sweep) and write results files.
@@ -288,12 +288,15 @@ pub fn clap_line(err: &clap::Error) -> String {
     let allowed = get(ContextKind::ValidValue)
         .map(|v| format!(" (allowed: {v})"))
         .unwrap_or_default();
+    let suggested = get(ContextKind::SuggestedValue)
+        .map(|v| format!("; did you mean `{v}`?"))
+        .unwrap_or_default();
     match err.kind() {
         ErrorKind::InvalidValue | ErrorKind::ValueValidation if !arg.is_empty() => {
             let why = std::error::Error::source(err)
                 .map(|m| format!(": {m}"))
                 .unwrap_or_default();
-            format!("{arg}: invalid value '{value}'{why}{allowed}")
+            format!("{arg}: invalid value '{value}'{why}{suggested}{allowed}")
         }
         ErrorKind::MissingRequiredArgument if !arg.is_empty() => {
             format!("missing required arguments: {arg}")

@@ -116,7 +116,8 @@ pub struct Results {
     pub config: SweepConfig,
     /// Workload and step calibration.
     pub calibration: CalibrationRecord,
-    /// Cache-line round trip between the two cores, before and after.
+    /// Cache-line round trip between the two cores: before the first row, after every row and
+    /// after the last.
     pub round_trip: Placement,
     /// UTC time the run started (RFC 3339).
     pub started: String,

@@ -1,5 +1,6 @@
-//! Expands a config into cells, calibrates the workload levels, runs every cell's trials and
-//! hands each finished cell to a sink (which persists it) before starting the next.
+//! Expands a config into cells, calibrates the workload levels, runs each row's trials
+//! interleaved, and hands the results to an [`Observer`] after every row (the sweep command
+//! rewrites the results files there), so an interrupted sweep keeps every finished row.
 
 use crate::config::{InputError, SweepConfig};
 use crate::crosscore;
