@@ -29,35 +29,17 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Measure one cell (or the few its flags list) and print its statistics.
-    #[command(
-        after_help = "Every flag of a cell's dimensions takes one value or a comma-separated list; a flag left out takes run's default: a 128×128 mesh in dp at workload 0, and the sweep's first value of every other dimension.\n\nExamples:\n  oceanbench run --size 256 --workload 3 --mode up --sync mutex --trials 3\n  oceanbench run --mode up,dp --sync atomic,condvar"
-    )]
     Run(RunArgs),
     /// Run a sweep config (default: the built-in Figure 5-1 sweep) and write results files.
-    #[command(
-        after_help = "Examples:\n  oceanbench sweep\n  oceanbench sweep configs/sync-primitives.json --out results/sync"
-    )]
     Sweep(SweepArgs),
     /// Draw the charts (Figure 5-1, relative, sync, frame-times, breakdown) from results files.
-    #[command(
-        after_help = "Examples:\n  oceanbench chart results/figure-5-1-20261122T020000Z\n  oceanbench chart run-a/results.json run-b/results.json --out charts --format png\n  oceanbench chart results/quick-X --normals analytic --size 40"
-    )]
     Chart(ChartArgs),
     /// Compare two results files, or the alternatives within one run, with noise-aware verdicts.
-    #[command(
-        after_help = "Exit status: 0 nothing regressed, 1 something regressed, 2 bad input.\n\nExamples:\n  oceanbench compare results/base results/new --threshold 5 --format markdown\n  oceanbench compare results/sync-primitives-X --by sync --baseline atomic"
-    )]
     Compare(CompareArgs),
     /// Hand-off round trip of every sync method on one core and across two, next to the raw
     /// cache-line ping-pong (the floor).
-    #[command(
-        after_help = "Example:\n  oceanbench latency --cores 0,1 --samples 20000 --json latency.json"
-    )]
     Latency(LatencyArgs),
     /// Write one frame of the surface as CSV (i,j,x,y,z,nx,ny,nz).
-    #[command(
-        after_help = "Example:\n  oceanbench mesh --size 32 --time 10 --waves my-waves.json --out frame.csv"
-    )]
     Mesh(MeshArgs),
 }
 
@@ -133,6 +115,9 @@ impl Args for DimArgs {
 
 /// Flags of `oceanbench run`.
 #[derive(Debug, Args)]
+#[command(
+    after_help = "Every flag of a cell's dimensions takes one value or a comma-separated list; a flag left out takes run's default: a 128×128 mesh in dp at workload 0, and the sweep's first value of every other dimension.\n\nExamples:\n  oceanbench run --size 256 --workload 3 --mode up --sync mutex --trials 3\n  oceanbench run --mode up,dp --sync atomic,condvar"
+)]
 pub struct RunArgs {
     /// The cell's dimensions; a flag left out takes `run`'s default (128×128, workload 0, dp,
     /// atomic, pool, 1 helper, neighbors, reference).
@@ -163,6 +148,9 @@ pub struct RunArgs {
 
 /// Flags of `oceanbench sweep`.
 #[derive(Debug, Args)]
+#[command(
+    after_help = "Examples:\n  oceanbench sweep\n  oceanbench sweep configs/sync-primitives.json --out results/sync"
+)]
 pub struct SweepArgs {
     /// Sweep config (JSON); default: the built-in Figure 5-1 config.
     pub config: Option<PathBuf>,
@@ -182,6 +170,9 @@ pub struct SweepArgs {
 
 /// Flags of `oceanbench chart`.
 #[derive(Debug, Args)]
+#[command(
+    after_help = "Examples:\n  oceanbench chart results/figure-5-1-20261122T020000Z\n  oceanbench chart run-a/results.json run-b/results.json --out charts --format png\n  oceanbench chart results/quick-X --normals analytic --size 40"
+)]
 pub struct ChartArgs {
     /// Results directories or results.json files (several put runs side by side).
     #[arg(required = true)]
@@ -199,24 +190,23 @@ pub struct ChartArgs {
     pub select: DimArgs,
 }
 
-/// Output format of `oceanbench compare`.
-#[derive(
-    Clone, Copy, Debug, PartialEq, Eq, strum::IntoStaticStr, strum::VariantArray, strum::EnumMessage,
-)]
-#[strum(serialize_all = "kebab-case")]
-pub enum CompareFormat {
-    /// Aligned columns for a terminal.
-    Text,
-    /// A table ready to paste into a pull-request comment.
-    Markdown,
-    /// Machine-readable.
-    Json,
+crate::named! {
+    /// Output format of `oceanbench compare`.
+    pub enum CompareFormat {
+        /// Aligned columns for a terminal.
+        Text,
+        /// A table ready to paste into a pull-request comment.
+        Markdown,
+        /// Machine-readable.
+        Json,
+    }
 }
-
-crate::named!(CompareFormat);
 
 /// Flags of `oceanbench compare`.
 #[derive(Debug, Args)]
+#[command(
+    after_help = "Exit status: 0 nothing regressed, 1 something regressed, 2 bad input.\n\nExamples:\n  oceanbench compare results/base results/new --threshold 5 --format markdown\n  oceanbench compare results/sync-primitives-X --by sync --baseline atomic"
+)]
 pub struct CompareArgs {
     /// Baseline results (directory or results.json); with --by, the one run to compare within.
     pub base: PathBuf,
@@ -238,6 +228,9 @@ pub struct CompareArgs {
 
 /// Flags of `oceanbench latency`.
 #[derive(Debug, Args)]
+#[command(
+    after_help = "Example:\n  oceanbench latency --cores 0,1 --samples 20000 --json latency.json"
+)]
 pub struct LatencyArgs {
     /// The two cores, e.g. `0,1` (default: the first two allowed).
     #[arg(long, value_delimiter = ',')]
@@ -252,6 +245,9 @@ pub struct LatencyArgs {
 
 /// Flags of `oceanbench mesh`.
 #[derive(Debug, Args)]
+#[command(
+    after_help = "Example:\n  oceanbench mesh --size 32 --time 10 --waves my-waves.json --out frame.csv"
+)]
 pub struct MeshArgs {
     /// Mesh size N (N×N vertices).
     #[arg(long)]

@@ -16,29 +16,17 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-/// Where the two threads run.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    PartialEq,
-    Eq,
-    Hash,
-    strum::IntoStaticStr,
-    strum::VariantArray,
-    strum::EnumMessage,
-)]
-#[strum(serialize_all = "kebab-case")]
-pub enum Mode {
-    /// One thread: workload, mesh step and copy in turn (the paper's non-threaded build).
-    Serial,
-    /// Main and helper threads pinned to the same core (uniprocessor).
-    Up,
-    /// Main and helper threads pinned to two different cores (dual processor).
-    Dp,
+crate::named! {
+    /// Where the two threads run.
+    pub enum Mode {
+        /// One thread: workload, mesh step and copy in turn (the paper's non-threaded build).
+        Serial,
+        /// Main and helper threads pinned to the same core (uniprocessor).
+        Up,
+        /// Main and helper threads pinned to two different cores (dual processor).
+        Dp,
+    }
 }
-
-crate::named!(Mode);
 
 impl Mode {
     /// Distinct cores the mode needs.
@@ -50,27 +38,15 @@ impl Mode {
     }
 }
 
-/// How the helper thread comes to exist.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    PartialEq,
-    Eq,
-    Hash,
-    strum::IntoStaticStr,
-    strum::VariantArray,
-    strum::EnumMessage,
-)]
-#[strum(serialize_all = "kebab-case")]
-pub enum Threading {
-    /// One persistent helper, created once (the paper's thread pool).
-    Pool,
-    /// A new helper thread every frame (the paper's first implementation).
-    Spawn,
+crate::named! {
+    /// How the helper thread comes to exist.
+    pub enum Threading {
+        /// One persistent helper, created once (the paper's thread pool).
+        Pool,
+        /// A new helper thread every frame (the paper's first implementation).
+        Spawn,
+    }
 }
-
-crate::named!(Threading);
 
 /// Everything that defines one cell's loop.
 #[derive(Clone, Debug)]

@@ -1,7 +1,7 @@
-//! Names of enum values from one source. Each named enum derives strum's `IntoStaticStr` (its
-//! names), `VariantArray` (its values in order) and `EnumMessage` (its doc comments); `named!`
-//! builds serde, clap and `Display` on top of them, so configs, flags, results files and tables
-//! can never spell a value two ways.
+//! Names of enum values from one source. A named enum is declared through `named!`, which
+//! derives strum's `IntoStaticStr` (its names), `VariantArray` (its values in order) and
+//! `EnumMessage` (its doc comments) and builds serde, clap and `Display` on top of them, so
+//! configs, flags, results files and tables can never spell a value two ways.
 
 use crate::suggest;
 use strum::{EnumMessage, VariantArray};
@@ -45,49 +45,65 @@ impl<T> Named for T where
 #[error("{0}")]
 pub struct UnknownName(pub String);
 
-/// Implements `name()`, `Serialize`, `Deserialize`, `Display` and `clap::ValueEnum` from the
-/// enum's strum names.
+/// Declares a named enum: derives its names, values and docs from strum (kebab-case names unless
+/// a `case` is given) and implements `name()`, `Serialize`, `Deserialize`, `Display` and
+/// `clap::ValueEnum` from them.
 #[macro_export]
 macro_rules! named {
-    ($($t:ty),+ $(,)?) => {$(
-        impl $t {
+    (case = $case:literal; $(#[$attr:meta])* $vis:vis enum $name:ident {
+        $($(#[$vattr:meta])* $variant:ident),+ $(,)?
+    }) => {
+        $(#[$attr])*
+        #[derive(
+            Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord,
+            strum::IntoStaticStr, strum::VariantArray, strum::EnumMessage,
+        )]
+        #[strum(serialize_all = $case)]
+        $vis enum $name {
+            $($(#[$vattr])* $variant,)+
+        }
+
+        impl $name {
             /// The value's name in configs, flags, results and tables.
             pub fn name(self) -> &'static str {
                 self.into()
             }
         }
 
-        impl ::std::fmt::Display for $t {
+        impl ::std::fmt::Display for $name {
             fn fmt(&self, f: &mut ::std::fmt::Formatter<'_>) -> ::std::fmt::Result {
-                f.write_str($crate::named::Named::name(*self))
+                f.write_str(self.name())
             }
         }
 
-        impl ::serde::Serialize for $t {
+        impl ::serde::Serialize for $name {
             fn serialize<S: ::serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-                s.serialize_str($crate::named::Named::name(*self))
+                s.serialize_str(self.name())
             }
         }
 
-        impl<'de> ::serde::Deserialize<'de> for $t {
+        impl<'de> ::serde::Deserialize<'de> for $name {
             fn deserialize<D: ::serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
                 let text = <String as ::serde::Deserialize>::deserialize(d)?;
-                <$t as $crate::named::Named>::parse(&text).map_err(::serde::de::Error::custom)
+                <$name as $crate::named::Named>::parse(&text).map_err(::serde::de::Error::custom)
             }
         }
 
-        impl ::clap::ValueEnum for $t {
+        impl ::clap::ValueEnum for $name {
             fn value_variants<'a>() -> &'a [Self] {
-                <$t as ::strum::VariantArray>::VARIANTS
+                <$name as ::strum::VariantArray>::VARIANTS
             }
 
             fn to_possible_value(&self) -> Option<::clap::builder::PossibleValue> {
-                let value = ::clap::builder::PossibleValue::new($crate::named::Named::name(*self));
+                let value = ::clap::builder::PossibleValue::new(self.name());
                 Some(match $crate::named::Named::doc(*self) {
                     Some(doc) => value.help(doc),
                     None => value,
                 })
             }
         }
-    )+};
+    };
+    ($(#[$attr:meta])* $vis:vis enum $name:ident { $($body:tt)* }) => {
+        $crate::named!(case = "kebab-case"; $(#[$attr])* $vis enum $name { $($body)* });
+    };
 }

@@ -148,17 +148,13 @@ macro_rules! dimensions {
             $(,)?
         }
     )+) => {
-        /// A swept dimension of the study.
-        #[derive(
-            Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord,
-            strum::IntoStaticStr, strum::VariantArray, strum::EnumMessage,
-        )]
-        #[strum(serialize_all = "snake_case")]
-        pub enum Dim {
-            $($(#[doc = $doc])+ $variant,)+
+        $crate::named! {
+            case = "snake_case";
+            /// A swept dimension of the study.
+            pub enum Dim {
+                $($(#[doc = $doc])+ $variant,)+
+            }
         }
-
-        $crate::named!(Dim);
 
         impl Dim {
             /// Every dimension, in the order labels and tables show them.

@@ -13,28 +13,16 @@ pub use waves::{Wave, WaveSet};
 use crate::input::InputError;
 use normals::FaceNormals;
 
-/// Which implementation fills heights (and analytic normals).
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    PartialEq,
-    Eq,
-    Hash,
-    strum::IntoStaticStr,
-    strum::VariantArray,
-    strum::EnumMessage,
-)]
-#[strum(serialize_all = "kebab-case")]
-pub enum Kernel {
-    /// The straight port of section 4.2, kept as the oracle.
-    Reference,
-    /// Separable phase tables, half-angle powers and run-time selected vector code; the same
-    /// surface as `Reference`.
-    Fast,
+crate::named! {
+    /// Which implementation fills heights (and analytic normals).
+    pub enum Kernel {
+        /// The straight port of section 4.2, kept as the oracle.
+        Reference,
+        /// Separable phase tables, half-angle powers and run-time selected vector code; the same
+        /// surface as `Reference`.
+        Fast,
+    }
 }
-
-crate::named!(Kernel);
 
 /// Everything needed to compute one frame's mesh: waves, normal method, kernel and the
 /// precomputed topology. Owned by whichever thread runs the step.

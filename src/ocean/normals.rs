@@ -5,29 +5,17 @@
 use super::mesh::{Grid, Mesh};
 use glam::Vec3;
 
-/// How vertex normals are computed each frame.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    PartialEq,
-    Eq,
-    Hash,
-    strum::IntoStaticStr,
-    strum::VariantArray,
-    strum::EnumMessage,
-)]
-#[strum(serialize_all = "kebab-case")]
-pub enum NormalMethod {
-    /// The paper's original: for every vertex, a linear search of the triangle list (O(n²)).
-    Lookup,
-    /// A neighbour list built once; face normals recomputed and averaged every frame.
-    Neighbors,
-    /// The partial derivatives of the wave equation (section 3.5).
-    Analytic,
+crate::named! {
+    /// How vertex normals are computed each frame.
+    pub enum NormalMethod {
+        /// The paper's original: for every vertex, a linear search of the triangle list (O(n²)).
+        Lookup,
+        /// A neighbour list built once; face normals recomputed and averaged every frame.
+        Neighbors,
+        /// The partial derivatives of the wave equation (section 3.5).
+        Analytic,
+    }
 }
-
-crate::named!(NormalMethod);
 
 /// Triangle-vertex tests one `lookup` frame may take: about a second of one core.
 pub const LOOKUP_MAX_WORK: u64 = 600_000_000;

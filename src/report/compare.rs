@@ -21,32 +21,20 @@ pub const DEFAULT_THRESHOLD_PCT: f64 = 5.0;
 /// Resamples per bootstrap: enough for stable 2.5%/97.5% percentiles, cheap for a few hundred cells.
 const RESAMPLES: usize = 10_000;
 
-/// What a comparison concluded about one pair of cells.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    PartialEq,
-    Eq,
-    Hash,
-    strum::IntoStaticStr,
-    strum::VariantArray,
-    strum::EnumMessage,
-)]
-#[strum(serialize_all = "kebab-case")]
-pub enum Verdict {
-    /// The whole interval lies above +threshold.
-    #[strum(message = "improved")]
-    Improved,
-    /// The whole interval lies below -threshold.
-    #[strum(message = "regressed")]
-    Regressed,
-    /// The interval reaches into [-threshold, +threshold].
-    #[strum(message = "within noise")]
-    WithinNoise,
+crate::named! {
+    /// What a comparison concluded about one pair of cells.
+    pub enum Verdict {
+        /// The whole interval lies above +threshold.
+        #[strum(message = "improved")]
+        Improved,
+        /// The whole interval lies below -threshold.
+        #[strum(message = "regressed")]
+        Regressed,
+        /// The interval reaches into [-threshold, +threshold].
+        #[strum(message = "within noise")]
+        WithinNoise,
+    }
 }
-
-crate::named!(Verdict);
 
 impl Verdict {
     /// The verdict in words, for tables.
@@ -367,15 +355,25 @@ impl Comparison {
         }
     }
 
-    fn unmatched_titles(&self) -> [&'static str; 2] {
-        if self.by.is_some() {
+    /// The non-empty lists of cells that were not compared, each with its title.
+    fn unmatched(&self) -> Vec<(&'static str, &[String])> {
+        let [only_base, only_new] = if self.by.is_some() {
             [
                 "Baseline cells with nothing to compare",
                 "Cells without a baseline cell",
             ]
         } else {
             ["Only in base", "Only in new"]
-        }
+        };
+        [
+            (only_base, &self.only_in_base),
+            (only_new, &self.only_in_new),
+            ("Failed", &self.failed),
+        ]
+        .into_iter()
+        .filter(|(_, list)| !list.is_empty())
+        .map(|(title, list)| (title, list.as_slice()))
+        .collect()
     }
 
     /// `blank` pads unmarked intervals so that right-aligned text columns stay aligned.
@@ -454,17 +452,10 @@ impl Comparison {
                 "* one trial on a side: no interval, point estimate only"
             );
         }
-        let [only_base, only_new] = self.unmatched_titles();
-        for (title, list) in [
-            (only_base, &self.only_in_base),
-            (only_new, &self.only_in_new),
-            ("Failed", &self.failed),
-        ] {
-            if !list.is_empty() {
-                let _ = writeln!(out, "{title} ({}):", list.len());
-                for l in list {
-                    let _ = writeln!(out, "  {l}");
-                }
+        for (title, list) in self.unmatched() {
+            let _ = writeln!(out, "{title} ({}):", list.len());
+            for l in list {
+                let _ = writeln!(out, "  {l}");
             }
         }
         out
@@ -508,19 +499,9 @@ impl Comparison {
                 "\\* one trial on a side: no interval, point estimate only\n"
             );
         }
-        let [only_base, only_new] = self.unmatched_titles();
-        for (title, list) in [
-            (only_base, &self.only_in_base),
-            (only_new, &self.only_in_new),
-            ("Failed", &self.failed),
-        ] {
-            if !list.is_empty() {
-                let _ = writeln!(out, "**{title}** ({}):\n", list.len());
-                for l in list {
-                    let _ = writeln!(out, "- `{l}`");
-                }
-                out.push('\n');
-            }
+        for (title, list) in self.unmatched() {
+            let items: String = list.iter().map(|l| format!("- `{l}`\n")).collect();
+            let _ = writeln!(out, "**{title}** ({}):\n\n{items}", list.len());
         }
         out
     }

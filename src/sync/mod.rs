@@ -10,37 +10,27 @@ mod slot;
 
 pub use slot::Slot;
 
+use primitives::{PlMonitor, PlMutex, StdMonitor, StdMutex};
+
 use std::time::Instant;
 
-/// The synchronisation methods a sweep can compare.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    PartialEq,
-    Eq,
-    Hash,
-    strum::IntoStaticStr,
-    strum::VariantArray,
-    strum::EnumMessage,
-)]
-#[strum(serialize_all = "kebab-case")]
-pub enum SyncMethod {
-    /// Atomic flag, acquire/release; waiters poll with a yield (the paper's Interlocked + Sleep(0)).
-    Atomic,
-    /// The same flag, busy-waiting with a spin hint and never yielding.
-    Spin,
-    /// parking_lot mutex as a critical section around the flag, polled with a yield.
-    Mutex,
-    /// parking_lot mutex and condition variable, blocking waits (an OS-level object).
-    Condvar,
-    /// `std::sync::Mutex` around the flag, polled with a yield.
-    MutexStd,
-    /// `std::sync::Mutex` and `Condvar`, blocking waits.
-    CondvarStd,
+crate::named! {
+    /// The synchronisation methods a sweep can compare.
+    pub enum SyncMethod {
+        /// Atomic flag, acquire/release; waiters poll with a yield (the paper's Interlocked + Sleep(0)).
+        Atomic,
+        /// The same flag, busy-waiting with a spin hint and never yielding.
+        Spin,
+        /// parking_lot mutex as a critical section around the flag, polled with a yield.
+        Mutex,
+        /// parking_lot mutex and condition variable, blocking waits (an OS-level object).
+        Condvar,
+        /// `std::sync::Mutex` around the flag, polled with a yield.
+        MutexStd,
+        /// `std::sync::Mutex` and `Condvar`, blocking waits.
+        CondvarStd,
+    }
 }
-
-crate::named!(SyncMethod);
 
 impl SyncMethod {
     /// A fresh hand-off of this method, in the state "slot empty, helper may write".
@@ -48,14 +38,10 @@ impl SyncMethod {
         match self {
             SyncMethod::Atomic => Box::new(flag::AtomicFlag::<flag::Yield>::default()),
             SyncMethod::Spin => Box::new(flag::AtomicFlag::<flag::Spin>::default()),
-            SyncMethod::Mutex => {
-                Box::new(mutex::PolledLock::<primitives::PlMutex<State>>::default())
-            }
-            SyncMethod::MutexStd => {
-                Box::new(mutex::PolledLock::<primitives::StdMutex<State>>::default())
-            }
-            SyncMethod::Condvar => Box::new(condvar::Blocking::<condvar::ParkingLot>::default()),
-            SyncMethod::CondvarStd => Box::new(condvar::Blocking::<condvar::Std>::default()),
+            SyncMethod::Mutex => Box::new(mutex::PolledLock::<PlMutex<State>>::default()),
+            SyncMethod::MutexStd => Box::new(mutex::PolledLock::<StdMutex<State>>::default()),
+            SyncMethod::Condvar => Box::new(condvar::Blocking::<PlMonitor<State>>::default()),
+            SyncMethod::CondvarStd => Box::new(condvar::Blocking::<StdMonitor<State>>::default()),
         }
     }
 }

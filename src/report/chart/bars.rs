@@ -3,6 +3,7 @@
 use super::render::{Bar, BarPanel, BarPlot, Body, Chart, Frame, Legend, RefLine};
 use super::{mode_name, Missing, NothingToDraw, Runs, CHART_SIZE};
 use crate::frame_loop::Mode;
+use crate::measure::Summary;
 use plotters::style::RGBColor;
 
 /// Colour per mode: serial grey, UP orange, DP blue (Okabe-Ito, readable with colour blindness).
@@ -47,23 +48,67 @@ fn size_caption(size: usize) -> String {
     format!("{size}×{size} mesh")
 }
 
+/// One cell's FPS bar, its error bar from the slowest to the fastest trial.
+fn fps_bar(s: &Summary, group: usize, slot: usize, color: RGBColor) -> Bar {
+    Bar {
+        group,
+        slot,
+        value: s.fps,
+        range: Some((s.fps_spread.min, s.fps_spread.max)),
+        color,
+    }
+}
+
+/// A legend entry per run and mode, each mode in its colour.
+fn mode_legend(runs: &Runs, r: usize, modes: &[Mode]) -> Vec<Legend> {
+    modes
+        .iter()
+        .map(|&m| {
+            Legend::boxed(
+                runs.series(&runs.runs[r], mode_name(m)),
+                shade(mode_color(m), r),
+            )
+        })
+        .collect()
+}
+
+/// A bar chart from its panels: the machine lines and `note` under the title, what is missing
+/// under the chart, or nothing to draw (`empty`) without a panel.
+fn bar_chart(
+    runs: &Runs,
+    title: String,
+    note: String,
+    legend: Vec<Legend>,
+    missing: Missing,
+    plot: BarPlot,
+    empty: impl FnOnce() -> String,
+) -> Result<Chart, NothingToDraw> {
+    if plot.panels.is_empty() {
+        return Err(NothingToDraw(empty()));
+    }
+    let mut lines = runs.machine_lines();
+    lines.push(note);
+    Ok(Chart {
+        frame: Frame {
+            title,
+            lines,
+            legend,
+            notes: missing.notes(),
+        },
+        body: Body::Bars(plot),
+        size: CHART_SIZE,
+    })
+}
+
 /// Figure 5-1: FPS per workload, one panel per mesh size, serial / UP / DP bars.
 pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, NothingToDraw> {
-    let v = runs
-        .variant()
-        .ok_or(NothingToDraw::new("no cells in the results"))?;
+    let v = runs.variant()?;
     let modes = runs.modes();
     let workloads = runs.workloads();
     let mut missing = Missing::default();
-    let mut legend = vec![];
-    for (r, run) in runs.runs.iter().enumerate() {
-        for &m in &modes {
-            legend.push(Legend::boxed(
-                runs.series(run, mode_name(m)),
-                shade(mode_color(m), r),
-            ));
-        }
-    }
+    let legend = (0..runs.runs.len())
+        .flat_map(|r| mode_legend(runs, r, &modes))
+        .collect();
     let slots = runs.runs.len() * modes.len();
     let mut panels = vec![];
     for size in runs.sizes() {
@@ -73,13 +118,8 @@ pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, NothingToDraw> {
                 for (m, &mode) in modes.iter().enumerate() {
                     let key = v.key(size, w, mode, v.sync());
                     if let Some(s) = runs.summary(run, &key, &mut missing) {
-                        bars.push(Bar {
-                            group: g,
-                            slot: r * modes.len() + m,
-                            value: s.fps,
-                            range: Some((s.fps_spread.min, s.fps_spread.max)),
-                            color: shade(mode_color(mode), r),
-                        });
+                        let color = shade(mode_color(mode), r);
+                        bars.push(fps_bar(s, g, r * modes.len() + m, color));
                     }
                 }
             }
@@ -93,44 +133,33 @@ pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, NothingToDraw> {
             });
         }
     }
-    if panels.is_empty() {
-        return Err(NothingToDraw(format!(
-            "no measured cell with {}",
+    bar_chart(
+        runs,
+        format!(
+            "Figure 5-1: frames per second by workload, serial vs UP vs DP ({} hand-off)",
+            v.sync().name()
+        ),
+        format!(
+            "Bars: all frames ÷ all seconds over the trials; error bars: slowest and fastest trial. {}.",
             v.describe(true)
-        )));
-    }
-    let mut lines = runs.machine_lines();
-    lines.push(format!(
-        "Bars: all frames ÷ all seconds over the trials; error bars: slowest and fastest trial. {}.",
-        v.describe(true)
-    ));
-    Ok(Chart {
-        frame: Frame {
-            title: format!(
-                "Figure 5-1: frames per second by workload, serial vs UP vs DP ({} hand-off)",
-                v.sync().name()
-            ),
-            lines,
-            legend,
-            notes: missing.notes(),
-        },
-        body: Body::Bars(BarPlot {
+        ),
+        legend,
+        missing,
+        BarPlot {
             panels,
             slots,
             x_desc: "workload level (synthetic main-thread work per frame)".into(),
             y_desc: "frames per second (FPS)".into(),
             shared_y: false,
             format: fps,
-        }),
-        size: CHART_SIZE,
-    })
+        },
+        || format!("no measured cell with {}", v.describe(true)),
+    )
 }
 
 /// DP ÷ UP and DP ÷ serial per workload, one panel per size, with the ideal 2.0.
 pub(super) fn relative(runs: &Runs) -> Result<Chart, NothingToDraw> {
-    let v = runs
-        .variant()
-        .ok_or(NothingToDraw::new("no cells in the results"))?;
+    let v = runs.variant()?;
     let workloads = runs.workloads();
     let pairs = [(Mode::Up, "DP ÷ UP"), (Mode::Serial, "DP ÷ serial")];
     let colors = [RGBColor(0x00, 0x72, 0xb2), RGBColor(0x00, 0x9e, 0x73)];
@@ -184,44 +213,38 @@ pub(super) fn relative(runs: &Runs) -> Result<Chart, NothingToDraw> {
             });
         }
     }
-    if panels.is_empty() {
-        return Err(NothingToDraw(format!(
-            "no DP cell with a UP or serial cell to divide by ({})",
+    bar_chart(
+        runs,
+        format!(
+            "DP speed-up: DP ÷ UP and DP ÷ serial FPS ({} hand-off)",
+            v.sync().name()
+        ),
+        format!(
+            "Error bars: DP's slowest trial ÷ the other's fastest, and the reverse. {}.",
             v.describe(true)
-        )));
-    }
-    let mut lines = runs.machine_lines();
-    lines.push(format!(
-        "Error bars: DP's slowest trial ÷ the other's fastest, and the reverse. {}.",
-        v.describe(true)
-    ));
-    Ok(Chart {
-        frame: Frame {
-            title: format!(
-                "DP speed-up: DP ÷ UP and DP ÷ serial FPS ({} hand-off)",
-                v.sync().name()
-            ),
-            lines,
-            legend,
-            notes: missing.notes(),
-        },
-        body: Body::Bars(BarPlot {
+        ),
+        legend,
+        missing,
+        BarPlot {
             panels,
             slots: runs.runs.len() * pairs.len(),
             x_desc: "workload level".into(),
             y_desc: "FPS ratio (×)".into(),
             shared_y: true,
             format: ratio,
-        }),
-        size: CHART_SIZE,
-    })
+        },
+        || {
+            format!(
+                "no DP cell with a UP or serial cell to divide by ({})",
+                v.describe(true)
+            )
+        },
+    )
 }
 
 /// Each hand-off method's FPS in UP and DP, one panel per size at the highest workload.
 pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
-    let v = runs
-        .variant()
-        .ok_or(NothingToDraw::new("no cells in the results"))?;
+    let v = runs.variant()?;
     let syncs = runs.syncs();
     let workload = *runs
         .workloads()
@@ -231,12 +254,7 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
     let mut missing = Missing::default();
     let mut legend = vec![];
     for (r, run) in runs.runs.iter().enumerate() {
-        for &m in &modes {
-            legend.push(Legend::boxed(
-                runs.series(run, mode_name(m)),
-                shade(mode_color(m), r),
-            ));
-        }
+        legend.extend(mode_legend(runs, r, &modes));
         legend.push(Legend::line(runs.series(run, "serial"), shade(NO_GAIN, r)));
     }
     let mut panels = vec![];
@@ -248,13 +266,8 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
                 for (m, &mode) in modes.iter().enumerate() {
                     let key = v.key(size, workload, mode, sync);
                     if let Some(s) = runs.summary(run, &key, &mut missing) {
-                        bars.push(Bar {
-                            group: g,
-                            slot: r * modes.len() + m,
-                            value: s.fps,
-                            range: Some((s.fps_spread.min, s.fps_spread.max)),
-                            color: shade(mode_color(mode), r),
-                        });
+                        let color = shade(mode_color(mode), r);
+                        bars.push(fps_bar(s, g, r * modes.len() + m, color));
                     }
                 }
             }
@@ -275,32 +288,28 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
             });
         }
     }
-    if panels.is_empty() {
-        return Err(NothingToDraw(format!(
-            "no threaded cell at workload {workload} ({})",
+    bar_chart(
+        runs,
+        format!("Hand-off methods: FPS in UP and DP at workload {workload}"),
+        format!(
+            "Dashed line: serial FPS. Error bars: slowest and fastest trial. {}.",
             v.describe(false)
-        )));
-    }
-    let mut lines = runs.machine_lines();
-    lines.push(format!(
-        "Dashed line: serial FPS. Error bars: slowest and fastest trial. {}.",
-        v.describe(false)
-    ));
-    Ok(Chart {
-        frame: Frame {
-            title: format!("Hand-off methods: FPS in UP and DP at workload {workload}"),
-            lines,
-            legend,
-            notes: missing.notes(),
-        },
-        body: Body::Bars(BarPlot {
+        ),
+        legend,
+        missing,
+        BarPlot {
             panels,
             slots: runs.runs.len() * modes.len(),
             x_desc: "hand-off method".into(),
             y_desc: "frames per second (FPS)".into(),
             shared_y: false,
             format: fps,
-        }),
-        size: CHART_SIZE,
-    })
+        },
+        || {
+            format!(
+                "no threaded cell at workload {workload} ({})",
+                v.describe(false)
+            )
+        },
+    )
 }

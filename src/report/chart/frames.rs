@@ -60,9 +60,7 @@ pub(super) fn frame_times(
     focus: Option<(usize, usize)>,
 ) -> Result<Chart, NothingToDraw> {
     let (size, workload) = focus.ok_or(NothingToDraw::new("no measured cell in the results"))?;
-    let v = runs
-        .variant()
-        .ok_or(NothingToDraw::new("no cells in the results"))?;
+    let v = runs.variant()?;
     let syncs = runs.syncs();
     let mut missing = Missing::default();
     let mut legend = vec![];
@@ -177,9 +175,7 @@ pub(super) fn breakdown(
     const COPY: usize = 2;
     const STEP: usize = 3;
     let (size, workload) = focus.ok_or(NothingToDraw::new("no measured cell in the results"))?;
-    let v = runs
-        .variant()
-        .ok_or(NothingToDraw::new("no cells in the results"))?;
+    let v = runs.variant()?;
     let syncs = runs.syncs();
     let modes = runs.modes();
     let mut missing = Missing::default();

@@ -17,27 +17,15 @@ use itertools::Itertools;
 use std::path::{Path, PathBuf};
 use strum::VariantArray;
 
-/// An image format charts are written in.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    PartialEq,
-    Eq,
-    Hash,
-    strum::IntoStaticStr,
-    strum::VariantArray,
-    strum::EnumMessage,
-)]
-#[strum(serialize_all = "kebab-case")]
-pub enum ChartFormat {
-    /// A PNG bitmap.
-    Png,
-    /// An SVG drawing.
-    Svg,
+crate::named! {
+    /// An image format charts are written in.
+    pub enum ChartFormat {
+        /// A PNG bitmap.
+        Png,
+        /// An SVG drawing.
+        Svg,
+    }
 }
-
-crate::named!(ChartFormat);
 
 /// Why charts could not be written.
 #[derive(Debug, thiserror::Error)]
@@ -335,8 +323,11 @@ impl<'a> Runs<'a> {
         runs
     }
 
-    fn variant(&self) -> Option<Variant> {
-        self.variant.clone()
+    /// The cells the charts draw, or why there are none.
+    fn variant(&self) -> Result<Variant, NothingToDraw> {
+        self.variant
+            .clone()
+            .ok_or(NothingToDraw::new("no cells in the results"))
     }
 
     fn multi(&self) -> bool {
@@ -379,28 +370,28 @@ impl<'a> Runs<'a> {
             .flat_map(|r| r.results.cells.iter().map(|c| &c.key))
     }
 
-    fn sizes(&self) -> Vec<usize> {
-        let mut v: Vec<usize> = self
+    /// Every value of a numeric dimension listed in a config or measured, ascending.
+    fn counts(&self, dim: Dim) -> Vec<usize> {
+        let listed = self
             .runs
             .iter()
-            .flat_map(|r| r.results.config.axes.sizes.iter().copied())
-            .chain(self.keys().map(|k| k.size))
+            .flat_map(|r| r.results.config.axes.values(dim));
+        let measured = self.keys().filter_map(|k| k.get(dim));
+        let mut v: Vec<usize> = listed
+            .chain(measured)
+            .filter_map(usize::from_value)
             .collect();
         v.sort_unstable();
         v.dedup();
         v
     }
 
+    fn sizes(&self) -> Vec<usize> {
+        self.counts(Dim::Size)
+    }
+
     fn workloads(&self) -> Vec<usize> {
-        let mut v: Vec<usize> = self
-            .runs
-            .iter()
-            .flat_map(|r| r.results.config.axes.workloads.iter().copied())
-            .chain(self.keys().map(|k| k.workload))
-            .collect();
-        v.sort_unstable();
-        v.dedup();
-        v
+        self.counts(Dim::Workload)
     }
 
     fn modes(&self) -> Vec<Mode> {
