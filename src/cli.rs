@@ -41,6 +41,9 @@ pub enum Command {
     Latency(LatencyArgs),
     /// Write one frame of the surface as CSV (i,j,x,y,z,nx,ny,nz).
     Mesh(MeshArgs),
+    /// Check what on this machine makes measurements noisy (governor, boost, SMT, isolation,
+    /// steal, load, busy threads, pinning), each finding with how to fix it.
+    Doctor(DoctorArgs),
 }
 
 /// One flag per dimension of a cell (`--size`, `--mode`, `--sync`, ...), each taking a value or
@@ -241,6 +244,23 @@ pub struct LatencyArgs {
     /// Also write the rows as JSON to this file.
     #[arg(long)]
     pub json: Option<PathBuf>,
+}
+
+/// Flags of `oceanbench doctor`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Exit status 0 whatever it finds; entries missing from /proc or /sys are listed.\n\nExamples:\n  oceanbench doctor\n  oceanbench doctor --cores 2,3 --seconds 5 --json"
+)]
+pub struct DoctorArgs {
+    /// The main and helper cores to check, e.g. `0,1` (default: the first two allowed).
+    #[arg(long, value_delimiter = ',')]
+    pub cores: Option<Vec<usize>>,
+    /// Seconds to watch the machine for steal, load and busy threads.
+    #[arg(long, default_value_t = 2.0)]
+    pub seconds: f64,
+    /// Print the findings as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Flags of `oceanbench mesh`.

@@ -2,12 +2,14 @@
 
 mod chart;
 mod compare;
+mod doctor;
 mod interrupt;
 mod latency;
 mod mesh;
 mod run;
 mod sweep;
 
+use crate::affinity;
 use crate::cli::{Cli, Command};
 use crate::config::InputError;
 use crate::report::chart::{self as charts, ChartOptions};
@@ -52,6 +54,7 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
         Command::Compare(args) => compare::compare(args),
         Command::Latency(args) => latency::latency(args),
         Command::Mesh(args) => mesh::mesh(args),
+        Command::Doctor(args) => doctor::doctor(args),
     }
 }
 
@@ -93,6 +96,30 @@ fn draw_charts(runs: &[Results], out: &Path, options: &ChartOptions) -> Result<(
         eprintln!("oceanbench: chart {} skipped: {}", s.chart, s.reason);
     }
     Ok(())
+}
+
+/// The main and helper cores a command measures on: the ones given, or the first two allowed
+/// (one core alone stands for both).
+fn chosen_cores(given: Option<&[usize]>) -> Result<[usize; 2], InputError> {
+    let allowed = affinity::allowed_cores();
+    let cores = match given {
+        Some(c) => {
+            affinity::check_allowed(c)?;
+            c.to_vec()
+        }
+        None => allowed.iter().copied().take(2).collect(),
+    };
+    match cores.as_slice() {
+        [only] => Ok([*only, *only]),
+        [a, b] => Ok([*a, *b]),
+        [] => Err(InputError(
+            "cores: no core is allowed for this process".into(),
+        )),
+        _ => Err(InputError(format!(
+            "--cores: give one or two core ids, got {}",
+            affinity::list(&cores)
+        ))),
+    }
 }
 
 /// Fails (exit 1) when any cell failed; the results already say why.
