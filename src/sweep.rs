@@ -267,14 +267,12 @@ impl Sweep {
             threading: key.threading.unwrap_or(Threading::Pool),
             workload_iterations: iterations,
             main_core: self.cores[0],
-            helper_core,
-            helpers: key.helpers.unwrap_or(1),
-            // In up every helper shares the main core; in dp they cycle through the allowed
-            // cores from the configured helper core on.
-            helper_cores: match key.mode {
-                Mode::Dp => frame_loop::cycle_cores(helper_core, key.helpers.unwrap_or(1)),
-                _ => Vec::new(),
-            },
+            helper_cores: frame_loop::helper_cores(
+                key.mode,
+                self.cores[0],
+                helper_core,
+                key.helpers.unwrap_or(1),
+            ),
             time_step: config.time_step,
             timeout: Duration::from_secs_f64(config.timeout_seconds),
             stop: Some(Arc::clone(&self.stop)),
@@ -309,8 +307,9 @@ struct CellRun {
 impl CellRun {
     fn record(&mut self, run: frame_loop::LoopRun) {
         self.pins.main_held = run.main_pin.held;
-        self.pins.helper_held = run.helper_pin.map(|p| p.held);
-        self.pinned &= run.main_pin.held && run.helper_pin.is_none_or(|p| p.held);
+        self.pins.helper_held =
+            (!run.helper_pins.is_empty()).then(|| run.helper_pins.iter().all(|p| p.held));
+        self.pinned &= run.pinned();
         self.trials.push(run.trial);
     }
 

@@ -22,14 +22,19 @@ fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMetho
         threading,
         workload_iterations: 50,
         main_core: cores[0],
-        helper_core: if mode == Mode::Dp { cores[1] } else { cores[0] },
-        helpers: 1,
-        helper_cores: Vec::new(),
+        helper_cores: with_helpers(mode, 1),
         time_step: 1.0 / 60.0,
         timeout: Duration::from_secs(20),
         stop: None,
         stall_at_frame: None,
     }
+}
+
+/// The cores of `helpers` helpers in `mode`, from the second allowed core on in dp.
+fn with_helpers(mode: Mode, helpers: usize) -> Vec<usize> {
+    let cores = affinity::allowed_cores();
+    let helper = if mode == Mode::Dp { cores[1] } else { cores[0] };
+    frame_loop::helper_cores(mode, cores[0], helper, helpers)
 }
 
 /// Every frame the main thread received: its index and a full copy of the render buffer.
@@ -41,7 +46,10 @@ fn frames(spec: &LoopSpec) -> Vec<(u64, Mesh)> {
     .unwrap_or_else(|e| {
         panic!(
             "{:?} {:?} {:?} x{}: {e}",
-            spec.mode, spec.sync, spec.threading, spec.helpers
+            spec.mode,
+            spec.sync,
+            spec.threading,
+            spec.helpers()
         )
     });
     assert_eq!(run.trial.frames.len() as u64, FRAMES);
@@ -117,9 +125,9 @@ fn pins_are_recorded_for_both_threads() {
             NormalMethod::Analytic,
         );
         let run = frame_loop::run(&s, &Budget::exact(5), |_, _| {}).unwrap();
-        let helper = run.helper_pin.expect("threaded modes have a helper");
-        assert_eq!(helper.core, s.helper_core);
-        assert!(run.main_pin.held && helper.held);
+        assert_eq!(run.helper_pins.len(), 1, "threaded modes have a helper");
+        assert_eq!(run.helper_pins[0].core, s.helper_cores[0]);
+        assert!(run.pinned());
     }
 }
 
@@ -142,10 +150,7 @@ fn split_meshes_are_bit_identical_to_serial_each_frame_once_in_order() {
                 for helpers in [2, 3] {
                     let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
                     s.kernel = kernel;
-                    s.helpers = helpers;
-                    if mode == Mode::Dp {
-                        s.helper_cores = frame_loop::cycle_cores(s.helper_core, helpers);
-                    }
+                    s.helper_cores = with_helpers(mode, helpers);
                     let got = frames(&s);
                     let indices: Vec<u64> = got.iter().map(|(k, _)| *k).collect();
                     assert_eq!(indices, (0..FRAMES).collect::<Vec<_>>());
@@ -171,20 +176,21 @@ fn every_helper_is_pinned_to_its_core() {
             Threading::Pool,
             NormalMethod::Analytic,
         );
-        s.helpers = 3;
+        s.helper_cores = with_helpers(mode, 3);
         if mode == Mode::Dp {
-            s.helper_cores = frame_loop::cycle_cores(s.helper_core, 3);
             // Cycling from the helper core on wraps through every allowed core.
-            assert_eq!(s.helper_cores[0], s.helper_core);
+            assert_eq!(s.helper_cores[0], cores[1]);
             assert!(s.helper_cores.iter().all(|c| cores.contains(c)));
+        } else {
+            assert_eq!(s.helper_cores, [cores[0]; 3]);
         }
         let run = frame_loop::run(&s, &Budget::exact(5), |_, _| {}).unwrap();
         assert_eq!(run.helper_pins.len(), 3);
         for (k, pin) in run.helper_pins.iter().enumerate() {
-            assert_eq!(pin.core, s.helper_core_of(k));
+            assert_eq!(pin.core, s.helper_cores[k]);
             assert!(pin.held, "helper {k} pinned to an allowed core holds");
         }
-        assert!(run.helper_pin.is_some_and(|p| p.held));
+        assert!(run.pinned());
     }
 }
 
@@ -192,7 +198,7 @@ fn every_helper_is_pinned_to_its_core() {
 fn unsupported_helper_counts_are_refused_with_the_reason() {
     let refused = |threading, normals, helpers| {
         let mut s = spec(Mode::Up, SyncMethod::Atomic, threading, normals);
-        s.helpers = helpers;
+        s.helper_cores = with_helpers(Mode::Up, helpers);
         match frame_loop::run(&s, &Budget::exact(1), |_, _| {}) {
             Err(frame_loop::LoopError::Spec(e)) => e.to_string(),
             other => panic!("expected a spec error, got {:?}", other.map(|_| ())),

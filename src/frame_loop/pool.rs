@@ -1,0 +1,108 @@
+//! The paper's thread pool: persistent helpers, created once per loop, one per band of rows.
+
+use super::frames::FrameCounter;
+use super::slots::{consume, produce, Shared};
+use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
+use crate::affinity::{self, Pin};
+use crate::ocean::{Mesh, Ocean};
+use crate::sched::ThreadNoise;
+use crate::sync::Released;
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::Instant;
+
+/// What a helper returns when it is shut down: its pin and what it suffered.
+type HelperEnd = Result<(Pin, ThreadNoise), LoopError>;
+
+/// The running helpers. Dropping the pool shuts them down, so no early return or panic of the
+/// main thread leaves a helper waiting for a release; a stalled helper is then left behind,
+/// never joined, since it may never return.
+struct Pool {
+    shared: Arc<Shared>,
+    helpers: Vec<JoinHandle<HelperEnd>>,
+}
+
+impl Pool {
+    /// Starts one pinned helper per part, each with its own `Ocean` (the fast kernel keeps
+    /// per-band tables in it).
+    fn start(spec: &LoopSpec, ocean: &Ocean) -> Result<Pool, LoopError> {
+        let shared = Arc::new(Shared::new(spec));
+        let mut pool = Pool {
+            shared: Arc::clone(&shared),
+            helpers: Vec::with_capacity(shared.parts.len()),
+        };
+        for (h, &core) in spec.helper_cores.iter().enumerate() {
+            let (shared, spec, mut ocean) = (Arc::clone(&shared), spec.clone(), ocean.clone());
+            let helper = std::thread::Builder::new()
+                .name(format!("ocean-helper-{h}"))
+                .spawn(move || -> HelperEnd {
+                    let pin = affinity::pin_current(core);
+                    let watch = ThreadWatch::start(core);
+                    let handoff = &*shared.parts[h].handoff;
+                    let mut k = 0;
+                    loop {
+                        produce(&spec, k, &mut ocean, &shared, h);
+                        match handoff.wait_released(Instant::now() + spec.timeout) {
+                            Ok(Released::Next) => k += 1,
+                            Ok(Released::Shutdown) => {
+                                return Ok((pin, watch.stop(format!("helper {h}"))))
+                            }
+                            Err(_) => return Err(spec.stalled("the helper (waiting for release)")),
+                        }
+                    }
+                })
+                .map_err(|e| LoopError::Helper(e.to_string()))?;
+            pool.helpers.push(helper);
+        }
+        Ok(pool)
+    }
+
+    /// Shuts the helpers down and collects their pins and noise, helper k at index k.
+    fn finish(mut self) -> Result<Vec<(Pin, ThreadNoise)>, LoopError> {
+        self.shared.shutdown();
+        std::mem::take(&mut self.helpers)
+            .into_iter()
+            .map(|h| {
+                h.join()
+                    .map_err(|_| LoopError::Helper("helper thread panicked".into()))?
+            })
+            .collect()
+    }
+}
+
+impl Drop for Pool {
+    fn drop(&mut self) {
+        self.shared.shutdown();
+    }
+}
+
+pub(super) fn run<F: FnMut(u64, &Mesh)>(
+    spec: &LoopSpec,
+    budget: &Budget,
+    ocean: Ocean,
+    mut observe: F,
+) -> Result<LoopRun, LoopError> {
+    let main_pin = affinity::pin_current(spec.main_core);
+    let (cores, main) = (CoreWatch::start(spec), ThreadWatch::start(spec.main_core));
+    let pool = Pool::start(spec, &ocean)?;
+    let mut render = Mesh::new(spec.grid);
+    let mut frames = FrameCounter::new(budget);
+    loop {
+        let record = consume(spec, frames.frame, &pool.shared, &mut render, &mut observe)?;
+        if frames.finish(record, spec)? {
+            break;
+        }
+    }
+    let mut threads = vec![main.stop("main".into())];
+    let mut helper_pins = Vec::new();
+    for (pin, noise) in pool.finish()? {
+        helper_pins.push(pin);
+        threads.push(noise);
+    }
+    Ok(LoopRun {
+        trial: frames.trial(),
+        main_pin,
+        helper_pins,
+        noise: cores.stop(threads),
+    })
+}

@@ -1,0 +1,51 @@
+//! The paper's non-threaded build: one thread runs the workload, the mesh step and the copy in
+//! turn.
+
+use super::frames::FrameCounter;
+use super::slots::ns;
+use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
+use crate::affinity;
+use crate::measure::FrameRecord;
+use crate::ocean::{Mesh, Ocean};
+use crate::workload;
+use std::time::Instant;
+
+pub(super) fn run<F: FnMut(u64, &Mesh)>(
+    spec: &LoopSpec,
+    budget: &Budget,
+    mut ocean: Ocean,
+    mut observe: F,
+) -> Result<LoopRun, LoopError> {
+    let main_pin = affinity::pin_current(spec.main_core);
+    let (cores, main) = (CoreWatch::start(spec), ThreadWatch::start(spec.main_core));
+    let mut mesh = Mesh::new(spec.grid);
+    let mut render = Mesh::new(spec.grid);
+    let mut frames = FrameCounter::new(budget);
+    loop {
+        let k = frames.frame;
+        let t0 = Instant::now();
+        workload::run(spec.workload_iterations, k);
+        let t1 = Instant::now();
+        ocean.step(spec.time_of(k), &mut mesh);
+        let t2 = Instant::now();
+        render.copy_from(&mesh);
+        let t3 = Instant::now();
+        observe(k, &render);
+        let record = FrameRecord {
+            total_ns: ns(t3 - t0),
+            workload_ns: ns(t1 - t0),
+            wait_ns: 0,
+            copy_ns: ns(t3 - t2),
+            step_ns: ns(t2 - t1),
+        };
+        if frames.finish(record, spec)? {
+            break;
+        }
+    }
+    Ok(LoopRun {
+        trial: frames.trial(),
+        main_pin,
+        helper_pins: Vec::new(),
+        noise: cores.stop(vec![main.stop("main".into())]),
+    })
+}

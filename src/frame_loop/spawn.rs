@@ -1,0 +1,71 @@
+//! The paper's first build: a new helper thread for every frame, created and joined inside the
+//! frame.
+
+use super::frames::FrameCounter;
+use super::slots::{consume, ns, produce, Shared};
+use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
+use crate::affinity::{self, Pin};
+use crate::ocean::{Mesh, Ocean};
+use crate::sched::ThreadNoise;
+use std::sync::Arc;
+use std::time::Instant;
+
+pub(super) fn run<F: FnMut(u64, &Mesh)>(
+    spec: &LoopSpec,
+    budget: &Budget,
+    ocean: Ocean,
+    mut observe: F,
+) -> Result<LoopRun, LoopError> {
+    let main_pin = affinity::pin_current(spec.main_core);
+    let (cores, main) = (CoreWatch::start(spec), ThreadWatch::start(spec.main_core));
+    let core = spec.helper_cores[0];
+    let shared = Arc::new(Shared::new(spec));
+    let mut ocean = Some(ocean);
+    let mut helpers = Pin { core, held: true };
+    let mut suffered = ThreadNoise {
+        thread: "helper 0 (a thread per frame)".into(),
+        core,
+        ..ThreadNoise::default()
+    };
+    let mut render = Mesh::new(spec.grid);
+    let mut frames = FrameCounter::new(budget);
+    loop {
+        let k = frames.frame;
+        let t0 = Instant::now();
+        let helper = {
+            let (shared, spec) = (Arc::clone(&shared), spec.clone());
+            let mut ocean = ocean
+                .take()
+                .expect("the ocean is returned by every joined helper");
+            // The new thread inherits the main thread's mask, so it pins itself explicitly.
+            std::thread::Builder::new()
+                .name("ocean-helper".into())
+                .spawn(move || {
+                    let pin = affinity::pin_current(core);
+                    let watch = ThreadWatch::start(core);
+                    produce(&spec, k, &mut ocean, &shared, 0);
+                    (ocean, pin, watch.stop(String::new()))
+                })
+                .map_err(|e| LoopError::Helper(e.to_string()))?
+        };
+        let mut record = consume(spec, k, &shared, &mut render, &mut observe)?;
+        let (back, pin, noise) = helper
+            .join()
+            .map_err(|_| LoopError::Helper("helper thread panicked".into()))?;
+        ocean = Some(back);
+        helpers.held &= pin.held;
+        suffered.run_delay_ns += noise.run_delay_ns;
+        suffered.involuntary_switches += noise.involuntary_switches;
+        // The frame includes creating and joining its thread, as the paper's first build did.
+        record.total_ns = ns(t0.elapsed());
+        if frames.finish(record, spec)? {
+            break;
+        }
+    }
+    Ok(LoopRun {
+        trial: frames.trial(),
+        main_pin,
+        helper_pins: vec![helpers],
+        noise: cores.stop(vec![main.stop("main".into()), suffered]),
+    })
+}
