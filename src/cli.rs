@@ -116,6 +116,38 @@ impl Args for DimArgs {
     }
 }
 
+/// Flags of `run` and `sweep` that set how trials are kept valid on a noisy machine; each
+/// overrides the config key of the same name.
+#[derive(Clone, Debug, Default, PartialEq, Args)]
+pub struct NoiseArgs {
+    /// When `step_fraction` workload levels are resolved: before every row (row, the default)
+    /// or once at the start (config key `calibrate`).
+    #[arg(long, value_enum)]
+    pub calibrate: Option<crate::calibrate::Calibrate>,
+    /// A trial whose run delay or steal exceeds this percentage of its wall time is noisy
+    /// (config key `noise_threshold_percent`, default 2).
+    #[arg(long)]
+    pub noise_threshold: Option<f64>,
+    /// Re-run a noisy trial up to N times, 0 to 10 (config key `retry_noisy`, default 0).
+    #[arg(long, value_name = "N")]
+    pub retry_noisy: Option<u32>,
+}
+
+impl NoiseArgs {
+    /// The config with these flags applied.
+    pub fn apply(&self, config: &mut crate::config::SweepConfig) {
+        if let Some(c) = self.calibrate {
+            config.calibrate = c;
+        }
+        if let Some(t) = self.noise_threshold {
+            config.noise_threshold_percent = t;
+        }
+        if let Some(n) = self.retry_noisy {
+            config.retry_noisy = n;
+        }
+    }
+}
+
 /// Flags of `oceanbench run`.
 #[derive(Debug, Args)]
 #[command(
@@ -147,6 +179,9 @@ pub struct RunArgs {
     /// Also write results files into this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Calibration and noise handling.
+    #[command(flatten)]
+    pub noise: NoiseArgs,
 }
 
 /// Flags of `oceanbench sweep`.
@@ -169,6 +204,12 @@ pub struct SweepArgs {
     /// Continue the interrupted sweep in this results directory (only its missing cells).
     #[arg(long, conflicts_with = "out")]
     pub resume: Option<PathBuf>,
+    /// Skip the machine checks `doctor` makes before the sweep.
+    #[arg(long)]
+    pub no_doctor: bool,
+    /// Calibration and noise handling (not with --resume, which keeps the recorded config).
+    #[command(flatten)]
+    pub noise: NoiseArgs,
 }
 
 /// Flags of `oceanbench chart`.

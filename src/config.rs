@@ -2,6 +2,7 @@
 //! defaults that reproduce Figure 5-1 and validation that names the field and what is allowed.
 
 use crate::affinity;
+use crate::calibrate::Calibrate;
 use crate::cell::{Axes, CellKey};
 use crate::frame_loop::{check_helpers, Budget, Mode};
 use crate::ocean::{mesh, normals, Grid, Mesh, NormalMethod, Wave, WaveSet};
@@ -107,6 +108,12 @@ pub struct SweepConfig {
     pub timeout_seconds: f64,
     /// Fault injection for testing timeouts: every helper stops producing at this frame.
     pub inject_stall_at_frame: Option<u64>,
+    /// When `step_fraction` levels are resolved: before every row (`row`) or once (`once`).
+    pub calibrate: Calibrate,
+    /// A trial whose run delay or steal exceeds this percentage of its wall time is noisy.
+    pub noise_threshold_percent: f64,
+    /// Times a noisy trial is re-run before it is kept anyway (0 to 10).
+    pub retry_noisy: u32,
 }
 
 impl Default for SweepConfig {
@@ -128,6 +135,9 @@ impl Default for SweepConfig {
             cores: None,
             timeout_seconds: 5.0,
             inject_stall_at_frame: None,
+            calibrate: Calibrate::Row,
+            noise_threshold_percent: 2.0,
+            retry_noisy: 0,
         }
     }
 }
@@ -350,6 +360,18 @@ impl SweepConfig {
             return Err(InputError(format!(
                 "timeout_seconds: must be > 0 and at most 86400, got {}",
                 self.timeout_seconds
+            )));
+        }
+        if !(self.noise_threshold_percent > 0.0 && self.noise_threshold_percent < 100.0) {
+            return Err(InputError(format!(
+                "noise_threshold_percent: must be above 0 and below 100, got {}",
+                self.noise_threshold_percent
+            )));
+        }
+        if self.retry_noisy > 10 {
+            return Err(InputError(format!(
+                "retry_noisy: must be 0 to 10, got {}",
+                self.retry_noisy
             )));
         }
         self.wave_set()?;

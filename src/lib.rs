@@ -2,6 +2,7 @@
 //! headless benchmark harness.
 
 pub mod affinity;
+pub mod calibrate;
 pub mod cell;
 pub mod cli;
 pub mod commands;

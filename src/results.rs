@@ -1,11 +1,13 @@
 //! The results file: the interface between measuring and reporting. Tables, charts and
 //! comparisons are drawn from it alone.
 
+use crate::calibrate::{RowCalibration, Yardstick};
 pub use crate::cell::CellKey;
 use crate::config::{Level, SweepConfig};
 use crate::crosscore::RoundTrip;
 use crate::machine::Machine;
 use crate::measure::Summary;
+use crate::sched::TrialNoise;
 use crate::workload::Calibration;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -41,6 +43,57 @@ pub struct Cell {
     /// Why the cell failed, if it did.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
+    /// How the cell's workload level was set, and how far the machine had drifted when its
+    /// row started (absent in results from before per-row calibration).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub calibration: Option<RowCalibration>,
+    /// What disturbed the cell's trials (absent in results from before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise: Option<CellNoise>,
+}
+
+/// What disturbed a cell's trials, and what was done about it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CellNoise {
+    /// Each kept trial's run delay, preemptions and steal.
+    pub trials: Vec<TrialNoise>,
+    /// A trial whose run delay or steal took more than this share of its wall time is noisy.
+    pub threshold_percent: f64,
+    /// Noisy trials re-run and thrown away.
+    pub retries: usize,
+}
+
+impl CellNoise {
+    /// Kept trials that are still noisy (their retries ran out).
+    pub fn noisy_trials(&self) -> usize {
+        self.trials
+            .iter()
+            .filter(|t| t.is_noisy(self.threshold_percent))
+            .count()
+    }
+
+    /// The worst trial's largest share of the wall time a thread was kept off its core by
+    /// other tasks, in percent.
+    pub fn preempted_percent(&self) -> f64 {
+        self.worst(TrialNoise::preempted_percent)
+    }
+
+    /// The worst trial's largest steal of a pinned core, in percent of its wall time.
+    pub fn steal_percent(&self) -> f64 {
+        self.worst(TrialNoise::steal_percent)
+    }
+
+    /// Involuntary context switches of every thread over the kept trials.
+    pub fn involuntary_switches(&self) -> u64 {
+        self.trials
+            .iter()
+            .map(TrialNoise::involuntary_switches)
+            .sum()
+    }
+
+    fn worst(&self, share: fn(&TrialNoise) -> f64) -> f64 {
+        self.trials.iter().map(share).fold(0.0, f64::max)
+    }
 }
 
 /// A resolved workload level.
@@ -72,8 +125,12 @@ pub struct CalibrationRecord {
     pub workload: Calibration,
     /// Step times of the sizes that levels refer to.
     pub step_times: Vec<StepTime>,
-    /// Each level's microseconds and iterations.
+    /// Each level's microseconds and iterations at the start.
     pub levels: Vec<LevelRecord>,
+    /// The yardstick at the start: every size's step and the workload's speed, measured the
+    /// way each row measures them again (absent in results from before per-row calibration).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start: Option<Yardstick>,
 }
 
 /// The cross-core round trip at the start, between groups of cells, and at the end of a run.
@@ -126,6 +183,9 @@ pub struct Results {
     pub finished: Option<String>,
     /// Every finished cell, in the order run.
     pub cells: Vec<Cell>,
+    /// What `doctor` found before the run (absent when it was not run).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub doctor: Option<crate::doctor::Report>,
 }
 
 /// Why a results file could not be read; each names the file.

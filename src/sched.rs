@@ -8,6 +8,9 @@ use serde::{Deserialize, Serialize};
 /// The calling thread's scheduler counters so far.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ThreadCounters {
+    /// Nanoseconds spent running on a CPU (the thread CPU clock, exact to the call; schedstat's
+    /// own figure lags by up to a scheduler tick).
+    pub cpu_ns: u64,
     /// Nanoseconds spent runnable on a run queue but not running (schedstat's run delay).
     pub run_delay_ns: u64,
     /// Times the thread was switched out against its will.
@@ -19,8 +22,9 @@ impl ThreadCounters {
     /// `/proc/thread-self/schedstat`, or `getrusage(RUSAGE_THREAD)` failed).
     pub fn now() -> Option<ThreadCounters> {
         let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-        let run_delay_ns = parse_schedstat(&text)?;
+        let (_, run_delay_ns) = parse_schedstat(&text)?;
         Some(ThreadCounters {
+            cpu_ns: thread_cpu_ns()?,
             run_delay_ns,
             involuntary_switches: involuntary_switches()?,
         })
@@ -29,6 +33,7 @@ impl ThreadCounters {
     /// What happened between `earlier` and `self`.
     pub fn since(self, earlier: ThreadCounters) -> ThreadCounters {
         ThreadCounters {
+            cpu_ns: self.cpu_ns.saturating_sub(earlier.cpu_ns),
             run_delay_ns: self.run_delay_ns.saturating_sub(earlier.run_delay_ns),
             involuntary_switches: self
                 .involuntary_switches
@@ -37,9 +42,21 @@ impl ThreadCounters {
     }
 }
 
-/// The run delay (second field) of a schedstat line: "cpu_ns run_delay_ns timeslices".
-pub fn parse_schedstat(text: &str) -> Option<u64> {
-    text.split_whitespace().nth(1)?.parse().ok()
+/// The CPU time and run delay of a schedstat line: "cpu_ns run_delay_ns timeslices".
+pub fn parse_schedstat(text: &str) -> Option<(u64, u64)> {
+    let mut fields = text.split_whitespace().map(|f| f.parse::<u64>().ok());
+    Some((fields.next()??, fields.next()??))
+}
+
+/// The calling thread's CPU time (`CLOCK_THREAD_CPUTIME_ID`), in nanoseconds.
+pub fn thread_cpu_ns() -> Option<u64> {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime writes one timespec into the valid pointer it is given.
+    let ok = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) } == 0;
+    ok.then(|| ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64)
 }
 
 #[cfg(target_os = "linux")]
@@ -95,7 +112,10 @@ pub struct ThreadNoise {
     pub thread: String,
     /// Its core.
     pub core: usize,
-    /// Run delay during the trial (ns).
+    /// CPU time during the trial (ns).
+    #[serde(default)]
+    pub cpu_ns: u64,
+    /// Run delay during the trial (ns): runnable but not running, whoever ran instead.
     pub run_delay_ns: u64,
     /// Involuntary context switches during the trial.
     pub involuntary_switches: u64,
@@ -114,10 +134,31 @@ pub struct TrialNoise {
 }
 
 impl TrialNoise {
-    /// The largest run delay of any thread, as a percentage of the wall time.
-    pub fn run_delay_percent(&self) -> f64 {
-        let worst = self.threads.iter().map(|t| t.run_delay_ns).max();
-        self.percent(worst.unwrap_or(0))
+    /// Each thread's run delay that our own threads do not explain: its run delay less the CPU
+    /// time of our other threads pinned to the same core (in `up`, main and helper are runnable
+    /// while the other runs, which is the mode, not noise). A lower bound of the time other
+    /// tasks kept the thread off its core.
+    pub fn foreign_delay_ns(&self) -> Vec<u64> {
+        self.threads
+            .iter()
+            .enumerate()
+            .map(|(i, t)| {
+                let partners: u64 = self
+                    .threads
+                    .iter()
+                    .enumerate()
+                    .filter(|&(j, u)| j != i && u.core == t.core)
+                    .map(|(_, u)| u.cpu_ns)
+                    .sum();
+                t.run_delay_ns.saturating_sub(partners)
+            })
+            .collect()
+    }
+
+    /// The largest share of the wall time a thread was kept off its core by other tasks, in
+    /// percent.
+    pub fn preempted_percent(&self) -> f64 {
+        self.percent(self.foreign_delay_ns().into_iter().max().unwrap_or(0))
     }
 
     /// The largest steal of any pinned core, as a percentage of the wall time.
@@ -130,9 +171,10 @@ impl TrialNoise {
         self.threads.iter().map(|t| t.involuntary_switches).sum()
     }
 
-    /// Whether run delay or steal took more than `threshold_percent` of the wall time.
+    /// Whether other tasks or the hypervisor took more than `threshold_percent` of the wall
+    /// time from a thread or a core.
     pub fn is_noisy(&self, threshold_percent: f64) -> bool {
-        self.run_delay_percent() > threshold_percent || self.steal_percent() > threshold_percent
+        self.preempted_percent() > threshold_percent || self.steal_percent() > threshold_percent
     }
 
     fn percent(&self, ns: u64) -> f64 {
@@ -150,7 +192,7 @@ mod tests {
 
     #[test]
     fn schedstat_and_proc_stat_parse() {
-        assert_eq!(parse_schedstat("738265 1500 3\n"), Some(1500));
+        assert_eq!(parse_schedstat("738265 1500 3\n"), Some((738265, 1500)));
         assert_eq!(parse_schedstat("garbage"), None);
         let stat = "cpu  263314 0 35605 734414 4036 0 258 385 0 0\n\
                     cpu0 132275 0 16185 369671 720 0 33 194 0 0\n\
@@ -162,31 +204,42 @@ mod tests {
         assert_eq!(parse_steal_ticks(stat, 2), None);
     }
 
+    fn thread(core: usize, cpu_ns: u64, run_delay_ns: u64) -> ThreadNoise {
+        ThreadNoise {
+            thread: format!("on {core}"),
+            core,
+            cpu_ns,
+            run_delay_ns,
+            involuntary_switches: 2,
+        }
+    }
+
     #[test]
-    fn shares_of_the_wall_time() {
+    fn shares_of_the_wall_time_on_two_cores() {
         let noise = TrialNoise {
             wall_ns: 1_000_000,
-            threads: vec![
-                ThreadNoise {
-                    thread: "main".into(),
-                    core: 0,
-                    run_delay_ns: 10_000,
-                    involuntary_switches: 3,
-                },
-                ThreadNoise {
-                    thread: "helper 0".into(),
-                    core: 1,
-                    run_delay_ns: 30_000,
-                    involuntary_switches: 4,
-                },
-            ],
+            threads: vec![thread(0, 900_000, 10_000), thread(1, 500_000, 30_000)],
             steal_ns: vec![(0, 5_000), (1, 0)],
         };
-        assert_eq!(noise.run_delay_percent(), 3.0);
+        assert_eq!(noise.foreign_delay_ns(), [10_000, 30_000]);
+        assert_eq!(noise.preempted_percent(), 3.0);
         assert_eq!(noise.steal_percent(), 0.5);
-        assert_eq!(noise.involuntary_switches(), 7);
+        assert_eq!(noise.involuntary_switches(), 4);
         assert!(noise.is_noisy(2.0) && !noise.is_noisy(3.0));
-        assert_eq!(TrialNoise::default().run_delay_percent(), 0.0);
+        assert_eq!(TrialNoise::default().preempted_percent(), 0.0);
+    }
+
+    #[test]
+    fn threads_sharing_a_core_do_not_count_each_other() {
+        // up: main waited 600 µs while its helper ran 550 µs; the helper waited 400 µs while
+        // main ran 450 µs. Only 50 µs of main's wait is someone else's doing.
+        let noise = TrialNoise {
+            wall_ns: 1_000_000,
+            threads: vec![thread(0, 450_000, 600_000), thread(0, 550_000, 400_000)],
+            steal_ns: vec![(0, 0)],
+        };
+        assert_eq!(noise.foreign_delay_ns(), [50_000, 0]);
+        assert_eq!(noise.preempted_percent(), 5.0);
     }
 
     #[test]

@@ -2,78 +2,58 @@
 //! interleaved, and hands the results to an [`Observer`] after every row (the sweep command
 //! rewrites the results files there), so an interrupted sweep keeps every finished row.
 
+use crate::calibrate::{self, Calibrate, RowCalibration, Yardstick};
 use crate::config::{InputError, SweepConfig};
 use crate::crosscore;
 use crate::frame_loop::{self, LoopError, LoopSpec, Mode, Threading};
 use crate::machine::Machine;
 use crate::measure::{Summary, Trial};
-use crate::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
+use crate::ocean::{Grid, WaveSet};
 use crate::results::{
-    CalibrationRecord, Cell, CellKey, LevelRecord, Pins, Placement, Results, StepTime,
+    CalibrationRecord, Cell, CellKey, CellNoise, LevelRecord, Pins, Placement, Results, StepTime,
 };
-use crate::stats;
+use crate::sched::TrialNoise;
 use crate::sync::SyncMethod;
 use crate::workload::Calibration;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::{Duration, Instant, SystemTime};
+use std::time::{Duration, SystemTime};
 
 /// Every cell of the config in the order they run (see [`crate::cell::Axes::cells`]).
 pub fn cells(config: &SweepConfig) -> Vec<CellKey> {
     config.axes.cells()
 }
 
-/// Median single-thread step time of an N = `size` mesh with the reference kernel and
-/// `neighbors` normals: the yardstick `step_fraction` levels are given in.
-pub fn step_time_ms(size: usize, spacing: f32, waves: &WaveSet) -> f64 {
-    let grid = Grid::new(size, spacing).expect("sizes are validated before calibration");
-    let mut ocean = Ocean::new(
-        grid,
-        waves.clone(),
-        NormalMethod::Neighbors,
-        Kernel::Reference,
-    )
-    .expect("neighbors accepts every valid size");
-    let mut mesh = Mesh::new(grid);
-    ocean.step(0.0, &mut mesh);
-    let mut times = Vec::new();
-    let start = Instant::now();
-    for k in 1..=31u32 {
-        let t = Instant::now();
-        ocean.step(k as f32 / 60.0, &mut mesh);
-        times.push(t.elapsed().as_secs_f64() * 1e3);
-        if k >= 7 && start.elapsed() > Duration::from_millis(500) {
-            break;
-        }
-    }
-    stats::median(&times)
-}
-
-/// Measures the workload speed and the step times the levels refer to, and resolves every level
-/// to iterations.
+/// Measures the workload speed and the yardstick (every listed size and every size a level
+/// refers to), and resolves every level to iterations.
 pub fn calibrate(config: &SweepConfig, waves: &WaveSet) -> CalibrationRecord {
     let workload = Calibration::measure(9);
-    let mut step_times: Vec<StepTime> = Vec::new();
+    let sizes = calibrate::yardstick_sizes(&config.axes.sizes, &config.workload_levels);
+    let start = Yardstick::measure(
+        &sizes,
+        config.spacing,
+        waves,
+        workload.sample_iterations,
+        7,
+        Duration::from_millis(500),
+    );
+    let step_times = config
+        .workload_levels
+        .iter()
+        .filter_map(|l| l.step_fraction.and(l.size))
+        .fold(Vec::<StepTime>::new(), |mut v, size| {
+            if !v.iter().any(|s| s.size == size) {
+                let median_ms = start.step_of(size).expect("level sizes are measured");
+                v.push(StepTime { size, median_ms });
+            }
+            v
+        });
     let levels = config
         .workload_levels
         .iter()
         .enumerate()
         .map(|(index, level)| {
-            let micros = match (level.micros, level.step_fraction, level.size) {
-                (Some(us), _, _) => us,
-                (None, Some(fraction), Some(size)) => {
-                    let ms = match step_times.iter().find(|s| s.size == size) {
-                        Some(s) => s.median_ms,
-                        None => {
-                            let median_ms = step_time_ms(size, config.spacing, waves);
-                            step_times.push(StepTime { size, median_ms });
-                            median_ms
-                        }
-                    };
-                    fraction * ms * 1e3
-                }
-                _ => unreachable!("levels are validated before calibration"),
-            };
+            let micros = calibrate::level_micros(level, |s| start.step_of(s));
             LevelRecord {
                 workload: index,
                 level: level.clone(),
@@ -86,6 +66,7 @@ pub fn calibrate(config: &SweepConfig, waves: &WaveSet) -> CalibrationRecord {
         workload,
         step_times,
         levels,
+        start: Some(start),
     }
 }
 
@@ -156,6 +137,7 @@ impl Sweep {
                 started: utc_now(),
                 finished: None,
                 cells: Vec::new(),
+                doctor: None,
             },
             waves,
             cores,
@@ -210,7 +192,11 @@ impl Sweep {
         let total = keys.len() * trials;
         let mut done = 0;
         for group in keys.chunk_by(|a, b| a.row() == b.row()) {
-            let mut runs: Vec<CellRun> = group.iter().map(|k| self.start_cell(k)).collect();
+            let (iterations, calibration) = self.calibrate_row(&group[0]);
+            let mut runs: Vec<CellRun> = group
+                .iter()
+                .map(|k| self.start_cell(k, iterations, calibration.clone()))
+                .collect();
             for _ in 0..trials {
                 for run in runs.iter_mut().filter(|r| r.error.is_none()) {
                     observer.trial_starting(Progress {
@@ -218,17 +204,35 @@ impl Sweep {
                         total,
                         cell: &run.key,
                     });
-                    match frame_loop::run(&run.spec, &self.results.config.budget(), |_, _| {}) {
-                        Ok(lr) => run.record(lr),
-                        Err(LoopError::Interrupted) => return self.results,
-                        Err(e) => run.error = Some(e.to_string()),
+                    let config = &self.results.config;
+                    let mut retries_left = config.retry_noisy;
+                    loop {
+                        match frame_loop::run(&run.spec, &config.budget(), |_, _| {}) {
+                            Ok(lr)
+                                if retries_left > 0
+                                    && lr.noise.is_noisy(config.noise_threshold_percent) =>
+                            {
+                                retries_left -= 1;
+                                run.retries += 1;
+                            }
+                            Ok(lr) => {
+                                run.record(lr);
+                                break;
+                            }
+                            Err(LoopError::Interrupted) => return self.results,
+                            Err(e) => {
+                                run.error = Some(e.to_string());
+                                break;
+                            }
+                        }
                     }
                     done += 1;
                 }
             }
+            let threshold = self.results.config.noise_threshold_percent;
             self.results
                 .cells
-                .extend(runs.into_iter().map(CellRun::finish));
+                .extend(runs.into_iter().map(|r| r.finish(threshold)));
             if self.cores[0] != self.cores[1] {
                 let rt = crosscore::round_trip(self.cores[0], self.cores[1], ROUND_TRIP_BATCHES);
                 self.results.round_trip.during.push(rt);
@@ -250,9 +254,52 @@ impl Sweep {
         self.results
     }
 
-    fn start_cell(&self, key: &CellKey) -> CellRun {
+    /// The workload iterations of a row's cells and how they were set: the yardstick is
+    /// measured again (step of the row's size and of the level's size, interleaved with the
+    /// workload), and a `step_fraction` level is re-derived from it unless the config says
+    /// `once`. `None` for results that predate the start yardstick (a resumed old sweep).
+    fn calibrate_row(&self, key: &CellKey) -> (u64, Option<RowCalibration>) {
         let config = &self.results.config;
-        let iterations = self.results.calibration.levels[key.workload].iterations;
+        let at_start = &self.results.calibration.levels[key.workload];
+        let Some(start) = &self.results.calibration.start else {
+            return (at_start.iterations, None);
+        };
+        let level = &config.workload_levels[key.workload];
+        let sizes = calibrate::yardstick_sizes(&[key.size], [level]);
+        let row = Yardstick::measure(
+            &sizes,
+            config.spacing,
+            &self.waves,
+            self.results.calibration.workload.sample_iterations,
+            5,
+            Duration::from_millis(50),
+        );
+        let (micros, iterations) = match (config.calibrate, level.step_fraction) {
+            (Calibrate::Row, Some(_)) => {
+                let micros = calibrate::level_micros(level, |s| row.step_of(s));
+                let iterations = (micros * 1e3 / row.ns_per_iteration).round() as u64;
+                (micros, iterations)
+            }
+            _ => (at_start.micros, at_start.iterations),
+        };
+        let calibration = RowCalibration {
+            calibrate: config.calibrate,
+            step_ms_at_start: start.step_of(key.size).unwrap_or(f64::NAN),
+            step_ms_in_row: row.step_of(key.size).unwrap_or(f64::NAN),
+            ns_per_iteration_at_start: start.ns_per_iteration,
+            ns_per_iteration_in_row: row.ns_per_iteration,
+            level_micros: micros,
+        };
+        (iterations, Some(calibration))
+    }
+
+    fn start_cell(
+        &self,
+        key: &CellKey,
+        iterations: u64,
+        calibration: Option<RowCalibration>,
+    ) -> CellRun {
+        let config = &self.results.config;
         let helper_core = match key.mode {
             Mode::Dp => self.cores[1],
             _ => self.cores[0],
@@ -288,6 +335,9 @@ impl Sweep {
             },
             spec,
             trials: Vec::new(),
+            noise: Vec::new(),
+            retries: 0,
+            calibration,
             pinned: true,
             error: None,
         }
@@ -299,6 +349,9 @@ struct CellRun {
     key: CellKey,
     spec: LoopSpec,
     trials: Vec<Trial>,
+    noise: Vec<TrialNoise>,
+    retries: usize,
+    calibration: Option<RowCalibration>,
     pinned: bool,
     pins: Pins,
     error: Option<String>,
@@ -311,9 +364,10 @@ impl CellRun {
             (!run.helper_pins.is_empty()).then(|| run.helper_pins.iter().all(|p| p.held));
         self.pinned &= run.pinned();
         self.trials.push(run.trial);
+        self.noise.push(run.noise);
     }
 
-    fn finish(self) -> Cell {
+    fn finish(self, threshold_percent: f64) -> Cell {
         let failed = self.error.is_some();
         Cell {
             workload_iterations: self.spec.workload_iterations,
@@ -326,6 +380,12 @@ impl CellRun {
             pins: self.pins,
             error: self.error,
             key: self.key,
+            calibration: self.calibration,
+            noise: (!self.noise.is_empty()).then_some(CellNoise {
+                trials: self.noise,
+                threshold_percent,
+                retries: self.retries,
+            }),
         }
     }
 }

@@ -72,6 +72,8 @@ fn cell(key: CellKey, fps: f64) -> Cell {
             helper_held: None,
         },
         error: None,
+        calibration: None,
+        noise: None,
     }
 }
 

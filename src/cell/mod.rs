@@ -163,6 +163,12 @@ impl CellKey {
             .join(" ")
     }
 
+    /// The label of the cell's row: its row dimensions' values only.
+    pub fn row_label(&self) -> String {
+        let others: Vec<Dim> = Dim::ALL.iter().copied().filter(|d| !d.row()).collect();
+        self.label_without(&others)
+    }
+
     /// The values of the row dimensions: cells with equal rows run interleaved.
     pub fn row(&self) -> Vec<Option<Value>> {
         Dim::ALL

@@ -46,6 +46,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
         cores: args.cores,
         ..SweepConfig::default()
     };
+    args.noise.apply(&mut config);
     if let Some(us) = args.workload_micros {
         config.workload_levels = vec![Level::micros(us)];
         config.axes.workloads = vec![0];
@@ -62,7 +63,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
 }
 
 fn print_cells(results: &Results) {
-    println!("{}", report::markdown::preamble(results));
+    print!("{}", report::markdown::preamble(results));
     for cell in &results.cells {
         println!("{}", cell.key.label());
         match &cell.summary {
@@ -85,6 +86,16 @@ fn print_cells(results: &Results) {
                 cell.pinned
             ),
             None => println!("  failed: {}", cell.error.as_deref().unwrap_or("no frames")),
+        }
+        if let Some(n) = &cell.noise {
+            println!(
+                "  noise: kept off its core by other tasks up to {:.2}%, steal up to {:.2}% of a trial, {} involuntary switches; {} noisy trial(s), {} retried",
+                n.preempted_percent(),
+                n.steal_percent(),
+                n.involuntary_switches(),
+                n.noisy_trials(),
+                n.retries
+            );
         }
     }
 }

@@ -4,12 +4,14 @@
 use super::{
     draw_charts, fail_on_errors, interrupt, load_results, prepare_out_dir, results_dir, CliError,
 };
-use crate::cli::SweepArgs;
+use crate::cli::{NoiseArgs, SweepArgs};
 use crate::config::{InputError, SweepConfig};
+use crate::doctor;
 use crate::report::{self, chart::ChartOptions};
 use crate::results::Results;
 use crate::sweep::{self, Observer, Progress, Sweep};
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 /// Names the top-level keys where two configs differ.
 fn config_differences(a: &SweepConfig, b: &SweepConfig) -> Vec<String> {
@@ -54,7 +56,8 @@ fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf)>, CliError> {
         None => None,
     };
     let Some(dir) = &args.resume else {
-        let config = config.unwrap_or_default();
+        let mut config = config.unwrap_or_default();
+        args.noise.apply(&mut config);
         config.validate()?;
         let dir = args.out.clone().unwrap_or_else(|| {
             let stamp: String = sweep::utc_now()
@@ -64,9 +67,28 @@ fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf)>, CliError> {
             PathBuf::from("results").join(format!("{}-{stamp}", config.name))
         });
         prepare_out_dir(&dir)?;
+        let doctor = (!args.no_doctor).then(|| {
+            let [main, helper] = config.placement().expect("the config was validated");
+            let cores: Vec<usize> = if main == helper {
+                vec![main]
+            } else {
+                vec![main, helper]
+            };
+            let report = doctor::examine(&cores, Duration::from_secs(1));
+            eprintln!("oceanbench: {}", report.summary());
+            report
+        });
         eprintln!("oceanbench: calibrating; results go to {}", dir.display());
-        return Ok(Some((Sweep::prepare(config)?, dir)));
+        let mut sweep = Sweep::prepare(config)?;
+        sweep.results.doctor = doctor;
+        return Ok(Some((sweep, dir)));
     };
+    if args.noise != NoiseArgs::default() {
+        return Err(InputError(
+            "--resume: keeps the recorded config; --calibrate, --noise-threshold and --retry-noisy cannot change it".into(),
+        )
+        .into());
+    }
     let previous = load_results(dir)?;
     if let Some(config) = &config {
         let differ = config_differences(config, &previous.config);
@@ -133,6 +155,7 @@ pub(super) fn sweep(args: SweepArgs) -> Result<(), CliError> {
     }
     println!("{}", report::markdown::to_string(&results));
     warn_about_placement(&results);
+    warn_about_noise(&results);
     if !args.no_charts {
         draw_charts(
             std::slice::from_ref(&results),
@@ -142,6 +165,14 @@ pub(super) fn sweep(args: SweepArgs) -> Result<(), CliError> {
     }
     println!("Results: {}", dir.display());
     fail_on_errors(&results)
+}
+
+/// Warns about rows whose yardstick drifted since the start and about cells that kept noisy
+/// trials, naming them.
+fn warn_about_noise(results: &Results) {
+    for line in report::markdown::noise_warnings(results) {
+        eprintln!("oceanbench: warning: {line}");
+    }
 }
 
 /// Warns about pins that did not hold and about the two cores moving mid-run.

@@ -293,6 +293,7 @@ impl ThreadWatch {
         ThreadNoise {
             thread,
             core: self.core,
+            cpu_ns: delta.cpu_ns,
             run_delay_ns: delta.run_delay_ns,
             involuntary_switches: delta.involuntary_switches,
         }

@@ -54,6 +54,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
             .map_err(|_| LoopError::Helper("helper thread panicked".into()))?;
         ocean = Some(back);
         helpers.held &= pin.held;
+        suffered.cpu_ns += noise.cpu_ns;
         suffered.run_delay_ns += noise.run_delay_ns;
         suffered.involuntary_switches += noise.involuntary_switches;
         // The frame includes creating and joining its thread, as the paper's first build did.

@@ -15,6 +15,12 @@ use std::collections::HashMap;
 use std::fmt::Write;
 use strum::EnumMessage;
 
+/// Marks a verdict that rests on trials disturbed beyond their noise threshold.
+const NOISY: &str = "†";
+
+/// The footnote of [`NOISY`].
+const NOISY_NOTE: &str = "† rests on trials in which other tasks or the hypervisor took more than the noise threshold: re-run before trusting it";
+
 /// The threshold the CLI uses when none is given, in percent.
 pub const DEFAULT_THRESHOLD_PCT: f64 = 5.0;
 
@@ -63,6 +69,9 @@ pub struct Change {
     pub ci_high_pct: f64,
     /// A side had a single trial: the interval is the point estimate alone.
     pub single_trial: bool,
+    /// A side kept trials whose run delay or steal exceeded its noise threshold.
+    #[serde(default)]
+    pub noisy: bool,
     /// The classification against the threshold.
     pub verdict: Verdict,
 }
@@ -310,8 +319,13 @@ impl Comparison {
                 }
             };
             let seed = stats::seed_from(&format!("{} {:?}", p.label, p.versus));
-            self.changes
-                .push(change(p.label, p.versus, &b, &n, threshold, seed));
+            let noisy = [p.base, p.new]
+                .iter()
+                .any(|c| c.noise.as_ref().is_some_and(|n| n.noisy_trials() > 0));
+            self.changes.push(Change {
+                noisy,
+                ..change(p.label, p.versus, &b, &n, threshold, seed)
+            });
         }
         // Stable sort: within-noise rows keep the run's order, so groups stay together.
         self.changes.sort_by(|a, b| {
@@ -386,8 +400,9 @@ impl Comparison {
                     Some(v) => format!("{}: {v}", c.label),
                     None => c.label.clone(),
                 };
+                let noisy = if c.noisy { NOISY } else { "" };
                 [
-                    c.verdict.words().to_string(),
+                    format!("{}{noisy}", c.verdict.words()),
                     pct(c.change_pct),
                     format!("[{}, {}]{mark}", pct(c.ci_low_pct), pct(c.ci_high_pct)),
                     format!("{:.1}", c.base_fps),
@@ -452,6 +467,9 @@ impl Comparison {
                 "* one trial on a side: no interval, point estimate only"
             );
         }
+        if self.changes.iter().any(|c| c.noisy) {
+            let _ = writeln!(out, "{NOISY_NOTE}");
+        }
         for (title, list) in self.unmatched() {
             let _ = writeln!(out, "{title} ({}):", list.len());
             for l in list {
@@ -498,6 +516,9 @@ impl Comparison {
                 out,
                 "\\* one trial on a side: no interval, point estimate only\n"
             );
+        }
+        if self.changes.iter().any(|c| c.noisy) {
+            let _ = writeln!(out, "{NOISY_NOTE}\n");
         }
         for (title, list) in self.unmatched() {
             let items: String = list.iter().map(|l| format!("- `{l}`\n")).collect();
@@ -551,6 +572,7 @@ fn change(
         ci_low_pct,
         ci_high_pct,
         single_trial,
+        noisy: false,
         verdict,
     }
 }

@@ -1,11 +1,13 @@
 //! CSV files through the `csv` crate, from flat row structs: the results table (one row per
 //! cell, one column per dimension or statistic) and `mesh --out`.
 
-use crate::results::{Cell, CellKey, Results};
+use crate::calibrate::Calibrate;
+use crate::results::{Cell, CellKey, CellNoise, Results};
 use serde::Serialize;
 use std::io::Write;
 
-/// One results row: the cell's dimensions, then its statistics; blank where a cell has no value.
+/// One results row: the cell's dimensions, its statistics, what disturbed it and how its level
+/// was calibrated; blank where a cell has no value.
 #[derive(Serialize)]
 struct CellRow<'a> {
     #[serde(flatten)]
@@ -27,12 +29,24 @@ struct CellRow<'a> {
     frames: Option<usize>,
     seconds: Option<f64>,
     pinned: bool,
+    preempted_percent: Option<f64>,
+    steal_percent: Option<f64>,
+    involuntary_switches: Option<u64>,
+    noisy_trials: Option<usize>,
+    retries: Option<usize>,
+    calibrate: Option<Calibrate>,
+    level_micros: Option<f64>,
+    step_ms_at_start: Option<f64>,
+    step_ms_in_row: Option<f64>,
+    ns_per_iteration_at_start: Option<f64>,
+    ns_per_iteration_in_row: Option<f64>,
     error: Option<&'a str>,
 }
 
 impl<'a> CellRow<'a> {
     fn of(cell: &'a Cell) -> CellRow<'a> {
         let s = cell.summary.as_ref();
+        let (noise, cal) = (cell.noise.as_ref(), cell.calibration.as_ref());
         let stat = |f: fn(&crate::measure::Summary) -> f64| s.map(f);
         CellRow {
             key: &cell.key,
@@ -53,6 +67,17 @@ impl<'a> CellRow<'a> {
             frames: s.map(|s| s.frames),
             seconds: stat(|s| s.seconds),
             pinned: cell.pinned,
+            preempted_percent: noise.map(CellNoise::preempted_percent),
+            steal_percent: noise.map(CellNoise::steal_percent),
+            involuntary_switches: noise.map(CellNoise::involuntary_switches),
+            noisy_trials: noise.map(CellNoise::noisy_trials),
+            retries: noise.map(|n| n.retries),
+            calibrate: cal.map(|c| c.calibrate),
+            level_micros: cal.map(|c| c.level_micros),
+            step_ms_at_start: cal.map(|c| c.step_ms_at_start),
+            step_ms_in_row: cal.map(|c| c.step_ms_in_row),
+            ns_per_iteration_at_start: cal.map(|c| c.ns_per_iteration_at_start),
+            ns_per_iteration_in_row: cal.map(|c| c.ns_per_iteration_in_row),
             error: cell.error.as_deref(),
         }
     }

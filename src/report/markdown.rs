@@ -1,16 +1,26 @@
 //! The Figure 5-1 table: rows mesh size × workload, columns serial / UP / DP and the ratios, one
 //! table per combination of the other dimensions (hand-off method, threading, normals, kernel...).
 
+use crate::calibrate::{self, Calibrate};
 use crate::cell::{Dim, DimValue};
 use crate::frame_loop::Mode;
 use crate::results::{Cell, CellKey, Results};
 use std::fmt::Write;
 
+/// Marks a cell that kept trials disturbed beyond the noise threshold.
+const NOISY: &str = "†";
+
 fn fps(cell: Option<&Cell>) -> String {
     match cell {
-        Some(Cell {
-            summary: Some(s), ..
-        }) => format!("{:.0} ±{:.1}%", s.fps, s.fps_spread.cv_percent),
+        Some(
+            c @ Cell {
+                summary: Some(s), ..
+            },
+        ) => {
+            let noisy = c.noise.as_ref().is_some_and(|n| n.noisy_trials() > 0);
+            let mark = if noisy { NOISY } else { "" };
+            format!("{:.0} ±{:.1}%{mark}", s.fps, s.fps_spread.cv_percent)
+        }
         Some(Cell { error: Some(_), .. }) => "failed".into(),
         _ => "–".into(),
     }
@@ -68,6 +78,20 @@ pub fn preamble(results: &Results) -> String {
         .map(|l| format!("{}: {:.0} µs", l.workload, l.micros))
         .collect();
     let _ = writeln!(out, "Workload levels: {}  ", levels.join(", "));
+    let calibrated = results.cells.iter().find_map(|c| c.calibration.as_ref());
+    if let Some(c) = calibrated {
+        let _ = writeln!(
+            out,
+            "Calibration: {}  ",
+            match c.calibrate {
+                Calibrate::Row => "step_fraction levels re-derived from the yardstick measured before every row",
+                Calibrate::Once => "levels resolved once at the start; the yardstick re-measured before every row for drift",
+            }
+        );
+    }
+    for line in noise_warnings(results) {
+        let _ = writeln!(out, "**Warning**: {line}  ");
+    }
     let _ = writeln!(
         out,
         "Run: {} ({} cells), started {}",
@@ -75,6 +99,64 @@ pub fn preamble(results: &Results) -> String {
         results.cells.len(),
         results.started
     );
+    out
+}
+
+/// What makes a run's figures less trustworthy: rows whose yardstick drifted since the start
+/// of the sweep, and cells that kept trials disturbed beyond the noise threshold.
+pub fn noise_warnings(results: &Results) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut drifted: Vec<String> = Vec::new();
+    let mut calibrate = None;
+    for c in &results.cells {
+        let Some(cal) = &c.calibration else { continue };
+        calibrate = Some(cal.calibrate);
+        let row = format!(
+            "{} (step {:+.0}%, workload {:+.0}%)",
+            c.key.row_label(),
+            100.0 * cal.step_drift(),
+            100.0 * cal.workload_drift()
+        );
+        if cal.drifted() && !drifted.contains(&row) {
+            drifted.push(row);
+        }
+    }
+    if !drifted.is_empty() {
+        let what = match calibrate {
+            Some(Calibrate::Once) => {
+                "their levels were resolved once, at the start (--calibrate once)"
+            }
+            _ => "their step_fraction levels were re-derived before the row",
+        };
+        out.push(format!(
+            "the machine drifted more than {:.0}% from the start's calibration in {} row(s): {}; {what}",
+            100.0 * calibrate::DRIFT_WARNING,
+            drifted.len(),
+            drifted.join(", ")
+        ));
+    }
+    let noisy: Vec<&Cell> = results
+        .cells
+        .iter()
+        .filter(|c| c.noise.as_ref().is_some_and(|n| n.noisy_trials() > 0))
+        .collect();
+    if let Some(first) = noisy.first().and_then(|c| c.noise.as_ref()) {
+        let worst = |f: fn(&crate::results::CellNoise) -> f64| {
+            noisy
+                .iter()
+                .filter_map(|c| c.noise.as_ref())
+                .map(f)
+                .fold(0.0, f64::max)
+        };
+        out.push(format!(
+            "{} cell(s) kept trials in which other tasks or the hypervisor took more than {}% of the wall time ({NOISY} in the tables; worst: a thread kept off its core {:.1}%, steal {:.1}%): {}; re-run with --retry-noisy or on a quieter machine (docs/noise.md)",
+            noisy.len(),
+            first.threshold_percent,
+            worst(|n| n.preempted_percent()),
+            worst(|n| n.steal_percent()),
+            noisy.iter().map(|c| c.key.label()).collect::<Vec<_>>().join(", ")
+        ));
+    }
     out
 }
 
