@@ -4,7 +4,7 @@
 use crate::affinity;
 use crate::calibrate::Calibrate;
 use crate::cell::{Axes, CellKey};
-use crate::frame_loop::{check_helpers, Budget, Mode};
+use crate::frame_loop::{check_depth, check_helpers, Budget, Mode};
 use crate::ocean::{mesh, normals, Grid, Mesh, NormalMethod, Wave, WaveSet};
 use crate::suggest;
 use serde::{Deserialize, Serialize};
@@ -376,11 +376,9 @@ impl SweepConfig {
         }
         self.wave_set()?;
         self.placement()?;
-        for &size in &self.axes.sizes {
-            check_memory(Grid::new(size, self.spacing)?)?;
-        }
         for key in self.axes.cells() {
             check_cell(&key)?;
+            check_memory(&key, Grid::new(key.size, self.spacing)?)?;
         }
         Ok(())
     }
@@ -392,6 +390,7 @@ impl SweepConfig {
 fn check_cell(key: &CellKey) -> Result<(), InputError> {
     if let (Some(helpers), Some(threading)) = (key.helpers, key.threading) {
         check_helpers(helpers, key.mode, threading, key.normals, key.size)?;
+        check_depth(key.depth.unwrap_or(1), threading)?;
     }
     if key.normals == NormalMethod::Lookup
         && normals::lookup_work(key.size) > normals::LOOKUP_MAX_WORK
@@ -406,10 +405,10 @@ fn check_cell(key: &CellKey) -> Result<(), InputError> {
     Ok(())
 }
 
-/// Refuses a mesh whose two copies (helper's slot and main's render buffer) would not fit in the
-/// machine's available memory.
-fn check_memory(grid: Grid) -> Result<(), InputError> {
-    let need = 3 * Mesh::bytes(grid) as u64;
+/// Refuses a cell whose meshes (the ring's slots and the main thread's render buffer, with one
+/// to spare) would not fit in the machine's available memory.
+fn check_memory(key: &CellKey, grid: Grid) -> Result<(), InputError> {
+    let need = (key.depth.unwrap_or(1) + 2) as u64 * Mesh::bytes(grid) as u64;
     if let Some(avail) = available_memory() {
         if need > avail {
             return Err(InputError(format!(

@@ -4,7 +4,7 @@
 use crate::affinity;
 use crate::crosscore;
 use crate::stats::{self, quantile};
-use crate::sync::{Handoff, Released, SyncMethod};
+use crate::sync::{Free, Handoff, SyncMethod};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -55,17 +55,16 @@ pub fn handoff_round_trip(
     helper: usize,
     samples: usize,
 ) -> LatencyRow {
-    let handoff: Arc<dyn Handoff> = Arc::from(method.handoff());
+    let handoff: Arc<dyn Handoff> = Arc::from(method.handoff(1));
     let timeout = Duration::from_secs(10);
     let echo = {
         let handoff = Arc::clone(&handoff);
         std::thread::spawn(move || {
             let pin = affinity::pin_current(helper);
             loop {
-                handoff.publish();
-                match handoff.wait_released(Instant::now() + timeout) {
-                    Ok(Released::Next) => {}
-                    Ok(Released::Shutdown) | Err(_) => return pin.held,
+                match handoff.wait_free(Instant::now() + timeout) {
+                    Ok(Free::Slot) => handoff.publish(),
+                    Ok(Free::Shutdown) | Err(_) => return pin.held,
                 }
             }
         })
@@ -75,14 +74,14 @@ pub fn handoff_round_trip(
             let pin = affinity::pin_current(main);
             let mut ns = Vec::with_capacity(samples);
             let start = Instant::now();
-            let mut ok = handoff.wait_published(start + timeout).is_ok();
+            let mut ok = handoff.wait_published(0, start + timeout).is_ok();
             // The first trips warm caches and the scheduler; they are not kept.
             let warmup = 16;
-            let mut trip = 0;
+            let mut trip: u64 = 0;
             while ok && ns.len() < samples {
                 let t0 = Instant::now();
                 handoff.release();
-                ok = handoff.wait_published(t0 + timeout).is_ok();
+                ok = handoff.wait_published(trip + 1, t0 + timeout).is_ok();
                 if trip >= warmup {
                     ns.push(t0.elapsed().as_nanos() as f64);
                 }

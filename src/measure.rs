@@ -7,16 +7,26 @@ use serde::{Deserialize, Serialize};
 /// What the main thread timed in one frame (nanoseconds).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrameRecord {
-    /// Whole frame: from the start of the workload to the release of the helper.
+    /// Whole frame: from its start to the next frame's start, so frames tile the timeline.
     pub total_ns: u64,
     /// The synthetic workload.
     pub workload_ns: u64,
     /// Waiting for the helper's mesh (zero in `serial`).
     pub wait_ns: u64,
-    /// Copying the mesh into the render buffer.
+    /// Consuming the mesh (copy, read or hand on) and releasing the helper.
     pub copy_ns: u64,
-    /// The mesh step as timed by the thread that ran it.
+    /// The mesh step as timed by the thread that ran it (in threaded modes it overlaps the
+    /// main thread's parts).
     pub step_ns: u64,
+    /// The rest of the frame: the loop's own bookkeeping, and in `up` whatever the helper ran
+    /// between the release and the next frame.
+    pub other_ns: u64,
+    /// Frames the helper had finished beyond the consumed one when it was consumed.
+    pub age_frames: u32,
+    /// From the helper publishing the consumed mesh to the main thread taking it.
+    pub age_ns: u64,
+    /// From the helper starting the consumed mesh (its input) to the main thread taking it.
+    pub latency_ns: u64,
 }
 
 /// One trial's frames.
@@ -24,6 +34,12 @@ pub struct FrameRecord {
 pub struct Trial {
     /// Measured frames, in order (warm-up frames are not kept).
     pub frames: Vec<FrameRecord>,
+    /// Wall time from the first measured frame's start to the last one's end, timed apart
+    /// from the frames: the frames' times add up to it.
+    pub wall_ns: u64,
+    /// With `read` consumption, the per-frame checksums of the meshes read, folded: the proof
+    /// that the read pass happened (and that every mode read the same meshes).
+    pub checksum: Option<u64>,
 }
 
 impl Trial {
@@ -70,10 +86,29 @@ pub struct Breakdown {
     pub workload_ms: f64,
     /// Main thread waiting for the mesh.
     pub wait_ms: f64,
-    /// Main thread copying the mesh to its render buffer.
+    /// Main thread consuming the mesh (copying it to its render buffer, reading it, or handing
+    /// it on) and releasing the helper.
     pub copy_ms: f64,
     /// The mesh step (helper thread, or main in `serial`).
     pub step_ms: f64,
+    /// The rest of the frame, so the parts add up to it (absent in results from before).
+    #[serde(default)]
+    pub other_ms: f64,
+}
+
+/// How old the consumed meshes were: what run-ahead costs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Latency {
+    /// Mean frames the helper had finished beyond the consumed one.
+    pub age_frames_mean: f64,
+    /// Median time from the helper publishing a mesh to the main thread taking it (ms).
+    pub age_ms_median: f64,
+    /// 99th percentile of the same (ms).
+    pub age_ms_p99: f64,
+    /// Median time from the helper starting a mesh (its input) to the main thread taking it (ms).
+    pub input_to_consume_ms_median: f64,
+    /// 99th percentile of the same (ms).
+    pub input_to_consume_ms_p99: f64,
 }
 
 /// Spread of the per-trial FPS.
@@ -107,10 +142,38 @@ pub struct Summary {
     pub one_percent_low_fps: f64,
     /// Mean per-frame breakdown.
     pub breakdown: Breakdown,
+    /// The consumed meshes' age (absent in results from before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub latency: Option<Latency>,
+    /// With `read` consumption, the trials' checksums of the meshes read, folded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub read_checksum: Option<u64>,
     /// Measured frames over every trial.
     pub frames: usize,
     /// Measured seconds over every trial.
     pub seconds: f64,
+}
+
+impl Latency {
+    fn of(frames: &[&FrameRecord]) -> Latency {
+        let ms = |f: fn(&FrameRecord) -> u64| {
+            stats::sorted(
+                &frames
+                    .iter()
+                    .map(|r| f(r) as f64 * 1e-6)
+                    .collect::<Vec<_>>(),
+            )
+        };
+        let (age, input) = (ms(|r| r.age_ns), ms(|r| r.latency_ns));
+        let ages: Vec<f64> = frames.iter().map(|r| f64::from(r.age_frames)).collect();
+        Latency {
+            age_frames_mean: stats::mean(&ages),
+            age_ms_median: quantile(&age, 0.5),
+            age_ms_p99: quantile(&age, 0.99),
+            input_to_consume_ms_median: quantile(&input, 0.5),
+            input_to_consume_ms_p99: quantile(&input, 0.99),
+        }
+    }
 }
 
 impl Summary {
@@ -164,7 +227,13 @@ impl Summary {
                 wait_ms: part(|r| r.wait_ns),
                 copy_ms: part(|r| r.copy_ns),
                 step_ms: part(|r| r.step_ns),
+                other_ms: part(|r| r.other_ns),
             },
+            latency: Some(Latency::of(&all)),
+            read_checksum: trials
+                .iter()
+                .filter_map(|t| t.checksum)
+                .reduce(|a, b| a ^ b.rotate_left(17)),
             frames: all.len(),
             seconds,
         })

@@ -313,6 +313,8 @@ impl Sweep {
             sync: key.sync.unwrap_or(SyncMethod::Atomic),
             threading: key.threading.unwrap_or(Threading::Pool),
             workload_iterations: iterations,
+            depth: key.depth.unwrap_or(1),
+            consume: key.consume,
             main_core: self.cores[0],
             helper_cores: frame_loop::helper_cores(
                 key.mode,

@@ -24,6 +24,8 @@ fn case(dim: Dim) -> Option<(serde_json::Value, serde_json::Value, serde_json::V
         Dim::Sync => (json!("atomic"), json!("condvar"), json!({})),
         Dim::Threading => (json!("pool"), json!("spawn"), json!({})),
         Dim::Helpers => (json!(1), json!(2), json!({"normals": ["analytic"]})),
+        Dim::Depth => (json!(1), json!(2), json!({})),
+        Dim::Consume => (json!("copy"), json!("handle"), json!({})),
         Dim::Normals => (json!("neighbors"), json!("analytic"), json!({})),
         Dim::Kernel => (json!("reference"), json!("fast"), json!({})),
         #[allow(unreachable_patterns)]
@@ -37,7 +39,8 @@ fn config(dim: Dim) -> SweepConfig {
     let (a, b, extra) = case(dim).expect("every dimension has a case");
     let mut text = json!({
         "sizes": [16], "workloads": [0], "modes": ["up"], "sync": ["atomic"],
-        "threading": ["pool"], "helpers": [1], "normals": ["neighbors"], "kernel": ["reference"],
+        "threading": ["pool"], "helpers": [1], "depth": [1], "consume": ["copy"],
+        "normals": ["neighbors"], "kernel": ["reference"],
         "trials": 2
     });
     for (k, v) in extra.as_object().unwrap() {
@@ -55,6 +58,7 @@ fn summary(fps: f64) -> Summary {
     };
     let trial = Trial {
         frames: vec![frame; 10],
+        ..Trial::default()
     };
     Summary::of(&[trial.clone(), trial]).unwrap()
 }

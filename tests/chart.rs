@@ -1,9 +1,13 @@
 //! Charts drawn from a real results file: the files exist, decode, and show every series.
 
-use oceanbench::cell::{Dim, Value};
+use oceanbench::cell::{Axes, Dim, Value};
+use oceanbench::config::{Level, SweepConfig};
+use oceanbench::frame_loop::Consume;
 use oceanbench::frame_loop::Mode;
 use oceanbench::report::chart::{self, ChartFormat, ChartOptions, CHARTS, CHART_SIZE};
 use oceanbench::results::Results;
+use oceanbench::sweep::Sweep;
+use oceanbench::sync::SyncMethod;
 use std::path::{Path, PathBuf};
 
 fn fixture() -> Results {
@@ -36,17 +40,23 @@ fn file(files: &[PathBuf], name: &str) -> PathBuf {
         .clone()
 }
 
+/// The charts a results file from before run-ahead depth can draw: every one but the latency.
+const OLD_CHARTS: [&str; 5] = ["figure-5-1", "relative", "sync", "frame-times", "breakdown"];
+
 #[test]
 fn fixture_charts_every_chart_in_both_formats() {
     let dir = tempfile::tempdir().unwrap();
-    let files = chart::draw(
-        &[fixture()],
-        dir.path(),
-        &[ChartFormat::Png, ChartFormat::Svg],
-    )
-    .unwrap();
-    assert_eq!(files.len(), CHARTS.len() * 2);
-    for name in CHARTS {
+    let options = ChartOptions {
+        formats: vec![ChartFormat::Png, ChartFormat::Svg],
+        ..ChartOptions::default()
+    };
+    let drawn = chart::draw_with(&[fixture()], dir.path(), &options).unwrap();
+    let files = drawn.files;
+    assert_eq!(files.len(), OLD_CHARTS.len() * 2);
+    assert_eq!(drawn.skipped.len(), 1);
+    assert_eq!(drawn.skipped[0].chart, "latency-vs-fps");
+    assert!(drawn.skipped[0].reason.contains("latency"));
+    for name in OLD_CHARTS {
         let (w, h) = png_size(&file(&files, &format!("{name}.png")));
         assert_eq!(w, CHART_SIZE.0, "{name}");
         assert!(h >= CHART_SIZE.1, "{name}");
@@ -136,7 +146,7 @@ fn missing_cells_still_chart_and_are_named() {
         &[ChartFormat::Png, ChartFormat::Svg],
     )
     .unwrap();
-    assert_eq!(files.len(), CHARTS.len() * 2);
+    assert_eq!(files.len(), OLD_CHARTS.len() * 2);
     let figure = svg_text(&file(&files, "figure-5-1.svg"));
     assert!(figure.contains("missing"), "{figure}");
     assert!(figure.contains("40×40 w0 DP"), "{figure}");
@@ -200,4 +210,38 @@ fn a_chosen_cell_drives_the_single_cell_charts() {
     let drawn = chart::draw_with(&[fixture()], dir.path(), &options).unwrap();
     let text = svg_text(&file(&drawn.files, "breakdown.svg"));
     assert!(text.contains("16×16 mesh, workload 0"), "{text}");
+}
+
+#[test]
+fn run_ahead_is_charted_as_fps_against_latency() {
+    let config = SweepConfig {
+        name: "pipeline".into(),
+        axes: Axes {
+            sizes: vec![16],
+            workloads: vec![0],
+            modes: vec![Mode::Up],
+            sync: vec![SyncMethod::Atomic],
+            depth: vec![1, 2],
+            consume: vec![Consume::Copy, Consume::Handle],
+            ..Axes::default()
+        },
+        trials: 1,
+        warmup_frames: 2,
+        min_frames: 10,
+        min_seconds: 0.0,
+        workload_levels: vec![Level::micros(0.0)],
+        ..SweepConfig::default()
+    };
+    let results = Sweep::prepare(config).unwrap().run(&mut ());
+    let dir = tempfile::tempdir().unwrap();
+    let files = chart::draw(&[results], dir.path(), &[ChartFormat::Svg]).unwrap();
+    let text = svg_text(&file(&files, "latency-vs-fps.svg"));
+    for series in [
+        "UP (1 core) atomic copy",
+        "UP (1 core) atomic handle",
+        "d1",
+        "d2",
+    ] {
+        assert!(text.contains(series), "no {series:?}");
+    }
 }

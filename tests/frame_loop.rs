@@ -2,7 +2,7 @@
 //! exactly once and in order.
 
 use oceanbench::affinity;
-use oceanbench::frame_loop::{self, Budget, LoopSpec, Mode, Threading};
+use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
 use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, WaveSet};
 use oceanbench::sync::SyncMethod;
 use std::time::Duration;
@@ -21,6 +21,8 @@ fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMetho
         sync,
         threading,
         workload_iterations: 50,
+        depth: 1,
+        consume: Consume::Copy,
         main_core: cores[0],
         helper_cores: with_helpers(mode, 1),
         time_step: 1.0 / 60.0,
@@ -92,6 +94,144 @@ fn threaded_meshes_are_bit_identical_to_serial_each_frame_once_in_order() {
                     }
                 }
             }
+        }
+    }
+}
+
+/// Every depth × consumption × method × mode consumes the serial meshes, each frame once and in
+/// order; with `read`, every mode reads the same meshes (equal checksums).
+#[test]
+fn pipelined_meshes_are_bit_identical_to_serial_for_every_depth_and_consumption() {
+    const FEW: u64 = 40;
+    let collect = |spec: &LoopSpec| {
+        let mut seen = Vec::new();
+        let run = frame_loop::run(spec, &Budget::exact(FEW), |k, mesh| {
+            seen.push((k, mesh.clone()))
+        })
+        .unwrap_or_else(|e| {
+            panic!(
+                "{:?} {:?} d{} {:?}: {e}",
+                spec.mode, spec.sync, spec.depth, spec.consume
+            )
+        });
+        (seen, run)
+    };
+    for consume in [Consume::Copy, Consume::Read, Consume::Handle] {
+        let mut serial_spec = spec(
+            Mode::Serial,
+            SyncMethod::Atomic,
+            Threading::Pool,
+            NormalMethod::Analytic,
+        );
+        serial_spec.consume = consume;
+        let (serial, serial_run) = collect(&serial_spec);
+        assert_eq!(
+            serial_run.trial.checksum.is_some(),
+            consume == Consume::Read
+        );
+        for mode in modes() {
+            for &sync in SyncMethod::VARIANTS {
+                for depth in 1..=3 {
+                    let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
+                    (s.depth, s.consume) = (depth, consume);
+                    let (got, run) = collect(&s);
+                    let what = format!("{mode:?} {sync:?} depth {depth} {consume:?}");
+                    let indices: Vec<u64> = got.iter().map(|(k, _)| *k).collect();
+                    assert_eq!(indices, (0..FEW).collect::<Vec<_>>(), "{what}");
+                    for ((k, mesh), (_, smesh)) in got.iter().zip(&serial) {
+                        assert!(mesh == smesh, "{what}: frame {k} differs");
+                    }
+                    assert_eq!(run.trial.checksum, serial_run.trial.checksum, "{what}");
+                    for f in &run.trial.frames {
+                        assert!(
+                            f.age_frames < depth as u32,
+                            "{what}: a frame aged {}",
+                            f.age_frames
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// With several helpers each band has its own ring, and frame k is consumed when every band has
+/// published it.
+#[test]
+fn split_meshes_run_ahead_too() {
+    let serial = frames(&spec(
+        Mode::Serial,
+        SyncMethod::Atomic,
+        Threading::Pool,
+        NormalMethod::Analytic,
+    ));
+    for mode in modes() {
+        for consume in [Consume::Read, Consume::Handle] {
+            let mut s = spec(
+                mode,
+                SyncMethod::Condvar,
+                Threading::Pool,
+                NormalMethod::Analytic,
+            );
+            (s.depth, s.consume) = (2, consume);
+            s.helper_cores = with_helpers(mode, 2);
+            let got = frames(&s);
+            for ((k, mesh), (_, smesh)) in got.iter().zip(&serial) {
+                assert!(mesh == smesh, "{mode:?} {consume:?}: frame {k} differs");
+            }
+        }
+    }
+}
+
+/// Frames tile the timeline: each runs from its start to the next one's, so a trial's frame
+/// times add up exactly to its wall time, and the parts plus the remainder make the frame.
+#[test]
+fn frame_times_add_up_to_the_wall_time() {
+    let mut all = vec![(Mode::Serial, Threading::Pool)];
+    for mode in modes() {
+        all.extend([(mode, Threading::Pool), (mode, Threading::Spawn)]);
+    }
+    for (mode, threading) in all {
+        let s = spec(mode, SyncMethod::Atomic, threading, NormalMethod::Analytic);
+        let budget = Budget {
+            warmup_frames: 3,
+            ..Budget::exact(25)
+        };
+        let trial = frame_loop::run(&s, &budget, |_, _| {}).unwrap().trial;
+        let sum: u64 = trial.frames.iter().map(|f| f.total_ns).sum();
+        assert_eq!(sum, trial.wall_ns, "{mode:?} {threading:?}");
+        for f in &trial.frames {
+            let main_parts = f.workload_ns + f.wait_ns + f.copy_ns + f.other_ns;
+            let parts = if mode == Mode::Serial {
+                main_parts + f.step_ns
+            } else {
+                main_parts
+            };
+            assert_eq!(parts, f.total_ns, "{mode:?} {threading:?}: {f:?}");
+        }
+    }
+}
+
+#[test]
+fn depth_beyond_the_ring_or_with_spawn_is_refused() {
+    for (threading, depth, needle) in [
+        (Threading::Pool, 5, "1 to 4"),
+        (Threading::Pool, 0, "1 to 4"),
+        (Threading::Spawn, 2, "pool"),
+    ] {
+        let mut s = spec(
+            Mode::Up,
+            SyncMethod::Atomic,
+            threading,
+            NormalMethod::Analytic,
+        );
+        s.depth = depth;
+        match frame_loop::run(&s, &Budget::exact(1), |_, _| {}) {
+            Err(frame_loop::LoopError::Spec(e)) => {
+                let e = e.to_string();
+                assert!(e.starts_with("depth:") && e.contains(needle), "{e}");
+            }
+            other => panic!("expected a spec error, got {:?}", other.map(|_| ())),
         }
     }
 }

@@ -14,8 +14,10 @@ fn trial(ms: &[u64]) -> Trial {
                 wait_ns: m * 250_000,
                 copy_ns: 0,
                 step_ns: m * 500_000,
+                ..FrameRecord::default()
             })
             .collect(),
+        ..Trial::default()
     }
 }
 

@@ -13,14 +13,14 @@ mod declare;
 
 pub use declare::{DimValue, Value};
 
-use crate::frame_loop::{Mode, Threading, MAX_HELPERS};
+use crate::frame_loop::{Consume, Mode, Threading, MAX_DEPTH, MAX_HELPERS};
 use crate::input::InputError;
 use crate::ocean::{mesh::MAX_SIZE, Kernel, NormalMethod};
 use crate::sync::SyncMethod;
 use declare::{dim_values, dimensions};
 use itertools::Itertools;
 
-dim_values!(Mode, SyncMethod, Threading, NormalMethod, Kernel);
+dim_values!(Mode, SyncMethod, Threading, Consume, NormalMethod, Kernel);
 
 dimensions! {
     /// Mesh size N (N×N vertices).
@@ -74,6 +74,25 @@ dimensions! {
         quiet: 1,
         check: check_helpers,
     }
+    /// Mesh slots the helper may fill ahead of the main thread (1: the paper's lockstep loop).
+    Depth(depth: usize) {
+        config: depth = [1],
+        cells: threaded,
+        row: false,
+        label: "d{}",
+        title: "depth {}",
+        quiet: 1,
+        check: check_depth,
+    }
+    /// How the main thread consumes a mesh: copy it, read it in place, or hand the slot on.
+    Consume(consume: Consume) {
+        config: consume = [Consume::Copy],
+        cells: all,
+        row: false,
+        label: "{}",
+        title: "{} consume",
+        quiet: Consume::Copy,
+    }
     /// How vertex normals are computed.
     Normals(normals: NormalMethod) {
         config: normals = [NormalMethod::Neighbors],
@@ -99,6 +118,14 @@ fn check_size(&n: &usize) -> Result<(), InputError> {
         Err(InputError(format!(
             "{n} is not allowed; sizes are 2 to {MAX_SIZE}"
         )))
+    }
+}
+
+fn check_depth(&n: &usize) -> Result<(), InputError> {
+    if (1..=MAX_DEPTH).contains(&n) {
+        Ok(())
+    } else {
+        Err(InputError(format!("must be 1 to {MAX_DEPTH}, got {n}")))
     }
 }
 

@@ -9,11 +9,14 @@
 //! shared mesh and the two sides of a threaded frame that touch it: every `unsafe` access to
 //! the slot is there.
 
+mod consume;
 mod frames;
 mod pool;
 mod serial;
 mod slots;
 mod spawn;
+
+pub use consume::{read, Consume, ReadPass};
 
 use crate::affinity::{self, Pin};
 use crate::input::InputError;
@@ -76,6 +79,11 @@ pub struct LoopSpec {
     pub threading: Threading,
     /// Workload iterations the main thread runs per frame.
     pub workload_iterations: u64,
+    /// Mesh slots in the ring: frames the helper may finish before the main thread consumes
+    /// the first of them (1: the paper's lockstep loop; ignored in `serial`).
+    pub depth: usize,
+    /// How the main thread consumes a mesh.
+    pub consume: Consume,
     /// Core of the main thread.
     pub main_core: usize,
     /// Helper k's core, one per helper thread the mesh's rows are split among (one: the
@@ -97,8 +105,8 @@ impl LoopSpec {
         self.helper_cores.len()
     }
 
-    /// Checks what `helpers` > 1 needs: a persistent pool, analytic normals, a band per helper.
-    pub fn check_helpers(&self) -> Result<(), InputError> {
+    /// Checks what the loop needs: see [`check_helpers`] and [`check_depth`].
+    pub fn check(&self) -> Result<(), InputError> {
         if self.mode == Mode::Serial {
             return Ok(());
         }
@@ -108,7 +116,8 @@ impl LoopSpec {
             self.threading,
             self.normals,
             self.grid.n,
-        )
+        )?;
+        check_depth(self.depth, self.threading)
     }
 
     fn stopped(&self) -> bool {
@@ -131,8 +140,27 @@ impl LoopSpec {
     }
 }
 
+/// Most mesh slots a ring may have.
+pub const MAX_DEPTH: usize = 4;
+
 /// Most helpers a loop may split the mesh among.
 pub const MAX_HELPERS: usize = 64;
+
+/// Refuses a run-ahead depth the loops cannot run: 1 to [`MAX_DEPTH`], and more than 1 only with a
+/// persistent helper (a thread per frame is joined inside its frame, so it cannot run ahead).
+pub fn check_depth(depth: usize, threading: Threading) -> Result<(), InputError> {
+    if !(1..=MAX_DEPTH).contains(&depth) {
+        return Err(InputError(format!(
+            "depth: must be 1 to {MAX_DEPTH}, got {depth}"
+        )));
+    }
+    if depth > 1 && threading == Threading::Spawn {
+        return Err(InputError(format!(
+            "depth: {depth} slots need threading `pool`; `spawn` joins its thread inside the frame, so it cannot run ahead"
+        )));
+    }
+    Ok(())
+}
 
 /// Refuses a helper count the loops cannot run, naming why; shared by configs, flags and
 /// `run` so every entry point gives the same message.
@@ -344,7 +372,7 @@ pub fn run<F>(spec: &LoopSpec, budget: &Budget, observe: F) -> Result<LoopRun, L
 where
     F: FnMut(u64, &Mesh) + Send,
 {
-    spec.check_helpers()?;
+    spec.check()?;
     let ocean = Ocean::new(spec.grid, spec.waves.clone(), spec.normals, spec.kernel)?;
     std::thread::scope(|s| {
         std::thread::Builder::new()

@@ -6,7 +6,7 @@ use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
 use crate::affinity::{self, Pin};
 use crate::ocean::{Mesh, Ocean};
 use crate::sched::ThreadNoise;
-use crate::sync::Released;
+use crate::sync::Free;
 use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::Instant;
@@ -39,17 +39,16 @@ impl Pool {
                     let pin = affinity::pin_current(core);
                     let watch = ThreadWatch::start(core);
                     let handoff = &*shared.parts[h].handoff;
-                    let mut k = 0;
-                    loop {
-                        produce(&spec, k, &mut ocean, &shared, h);
-                        match handoff.wait_released(Instant::now() + spec.timeout) {
-                            Ok(Released::Next) => k += 1,
-                            Ok(Released::Shutdown) => {
-                                return Ok((pin, watch.stop(format!("helper {h}"))))
+                    for k in 0.. {
+                        match handoff.wait_free(Instant::now() + spec.timeout) {
+                            Ok(Free::Slot) => produce(&spec, k, &mut ocean, &shared, h),
+                            Ok(Free::Shutdown) => break,
+                            Err(_) => {
+                                return Err(spec.stalled("the helper (waiting for a free slot)"))
                             }
-                            Err(_) => return Err(spec.stalled("the helper (waiting for release)")),
                         }
                     }
+                    Ok((pin, watch.stop(format!("helper {h}"))))
                 })
                 .map_err(|e| LoopError::Helper(e.to_string()))?;
             pool.helpers.push(helper);
@@ -87,8 +86,16 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     let pool = Pool::start(spec, &ocean)?;
     let mut render = Mesh::new(spec.grid);
     let mut frames = FrameCounter::new(budget);
+    let mut held = 0;
     loop {
-        let record = consume(spec, frames.frame, &pool.shared, &mut render, &mut observe)?;
+        let record = consume(
+            spec,
+            &mut frames,
+            &pool.shared,
+            &mut render,
+            &mut held,
+            &mut observe,
+        )?;
         if frames.finish(record, spec)? {
             break;
         }

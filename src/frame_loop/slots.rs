@@ -1,12 +1,14 @@
-//! The one-frame slot the helpers write and the main thread reads, and the two steps of a
-//! threaded frame that touch it: every `unsafe` access to the slot is in this file.
+//! The ring of mesh slots the helpers write and the main thread consumes, and the two steps of a
+//! threaded frame that touch it: every `unsafe` access to the slots is in this file.
 //!
-//! The slot is sound because of the hand-off protocol, which only these steps follow: helper h
-//! writes its band and stamp only while its part is Empty (before its first publish, or after
-//! `wait_released` returned `Next`), and the main thread reads the mesh and stamps only after
-//! every part is published and before it releases them. Each pair of sides is a release/acquire
-//! edge of the part's `Handoff`.
+//! The slots are sound because of the ring protocol, which only these steps follow: frame k
+//! lives in slot k mod depth; helper h writes its band of that slot and its stamp only after its
+//! ring's `wait_free` said the slot is free (the main thread released the frame that last used
+//! it), and the main thread reads a slot only after every helper published its frame there and
+//! before it releases it. Each pair of sides is a release/acquire edge of the helper's ring.
 
+use super::consume::{self, Consume};
+use super::frames::FrameCounter;
 use super::{LoopError, LoopSpec};
 use crate::measure::FrameRecord;
 use crate::ocean::{Grid, Mesh, MeshRows, Ocean};
@@ -14,66 +16,85 @@ use crate::sync::{Handoff, Slot};
 use crate::workload;
 use std::cell::UnsafeCell;
 use std::ops::Range;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
-/// What a helper leaves next to its band: which frame the band holds and how long it took.
-#[derive(Default)]
+/// What a helper leaves next to its band of a slot: which frame it holds, how long it took, and
+/// when it was started and published.
+#[derive(Clone, Copy)]
 struct Stamp {
     index: u64,
     step_ns: u64,
+    started: Instant,
+    published: Instant,
 }
 
-/// One helper's share of the frame: its rows, its hand-off and its stamp.
+/// One helper's share of every frame: its rows, its ring and its stamp in each slot.
 pub(super) struct Part {
     rows: Range<usize>,
-    /// The hand-off between this helper and the main thread.
+    /// The ring between this helper and the main thread.
     pub handoff: Box<dyn Handoff>,
-    stamp: Slot<Stamp>,
+    stamps: Vec<Slot<Stamp>>,
 }
 
-/// The one-frame slot: a mesh the helpers write band by band and the main thread copies whole,
-/// with one hand-off per helper (so every sync method works unchanged for any helper count).
-pub(super) struct Shared {
+/// One mesh of the ring, with the base pointers of its arrays, taken while the mesh was
+/// uniquely owned so helpers can make disjoint band slices without a `&mut Mesh` at once.
+struct MeshSlot {
     mesh: UnsafeCell<Mesh>,
-    /// Base pointers of x, y, z, nx, ny, nz, taken once while the mesh was uniquely owned, so
-    /// helpers can make disjoint band slices without ever forming a `&mut Mesh` at once.
     base: [*mut f32; 6],
+}
+
+/// The ring of `depth` meshes, each split among the helpers in bands of whole rows, with one
+/// ring hand-off per helper (so every sync method works unchanged for any helper count).
+pub(super) struct Shared {
+    slots: Vec<MeshSlot>,
     /// One per helper.
     pub parts: Vec<Part>,
 }
 
-// SAFETY: the mesh and stamps are only touched under the hand-off protocol described at the
-// top of this file; helpers write disjoint rows. The raw pointers point into the mesh's
-// buffers, which are never resized.
+// SAFETY: the meshes and stamps are only touched under the ring protocol described at the top
+// of this file; helpers write disjoint rows. The raw pointers point into the meshes' buffers,
+// which are never resized.
 unsafe impl Sync for Shared {}
-// SAFETY: as above; the pointers are owned data of `mesh`, which moves with them.
+// SAFETY: as above; the pointers are owned data of the meshes, which move with them.
 unsafe impl Send for Shared {}
 
 impl Shared {
-    /// A slot for `spec`'s grid split evenly into one band of whole rows per helper.
+    /// A ring of `spec.depth` meshes for `spec`'s grid, split evenly among `spec.helpers()`.
     pub fn new(spec: &LoopSpec) -> Shared {
-        let mut mesh = Mesh::new(spec.grid);
-        let base = [
-            mesh.x.as_mut_ptr(),
-            mesh.y.as_mut_ptr(),
-            mesh.z.as_mut_ptr(),
-            mesh.nx.as_mut_ptr(),
-            mesh.ny.as_mut_ptr(),
-            mesh.nz.as_mut_ptr(),
-        ];
+        let depth = spec.depth.max(1);
+        let slots = (0..depth)
+            .map(|_| {
+                let mut mesh = Mesh::new(spec.grid);
+                let base = [
+                    mesh.x.as_mut_ptr(),
+                    mesh.y.as_mut_ptr(),
+                    mesh.z.as_mut_ptr(),
+                    mesh.nx.as_mut_ptr(),
+                    mesh.ny.as_mut_ptr(),
+                    mesh.nz.as_mut_ptr(),
+                ];
+                MeshSlot {
+                    mesh: UnsafeCell::new(mesh),
+                    base,
+                }
+            })
+            .collect();
+        let now = Instant::now();
+        let blank = Stamp {
+            index: u64::MAX,
+            step_ns: 0,
+            started: now,
+            published: now,
+        };
         let (n, h) = (spec.grid.n, spec.helpers().max(1));
         let parts = (0..h)
             .map(|k| Part {
                 rows: k * n / h..(k + 1) * n / h,
-                handoff: spec.sync.handoff(),
-                stamp: Slot::new(Stamp::default()),
+                handoff: spec.sync.handoff(depth),
+                stamps: (0..depth).map(|_| Slot::new(blank)).collect(),
             })
             .collect();
-        Shared {
-            mesh: UnsafeCell::new(mesh),
-            base,
-            parts,
-        }
+        Shared { slots, parts }
     }
 
     /// Stops every helper: any waiting one returns `Shutdown`.
@@ -83,16 +104,21 @@ impl Shared {
         }
     }
 
-    /// Helper k's band of the mesh.
+    fn slot_of(&self, frame: u64) -> usize {
+        (frame % self.slots.len() as u64) as usize
+    }
+
+    /// Helper k's band of slot `s`.
     ///
     /// # Safety
-    /// The caller is helper k, owns its part, and is one of several helpers (a lone helper
-    /// uses `whole`), so only disjoint bands are alive.
+    /// The caller is helper k, its ring gave it slot `s`, and it is one of several helpers (a
+    /// lone helper uses the whole mesh), so only disjoint bands are alive.
     #[allow(clippy::mut_from_ref)]
-    unsafe fn band(&self, k: usize) -> MeshRows<'_> {
+    unsafe fn band(&self, s: usize, k: usize) -> MeshRows<'_> {
         let grid = self.grid();
         let rows = self.parts[k].rows.clone();
         let (start, len) = (rows.start * grid.n, rows.len() * grid.n);
+        let base = &self.slots[s].base;
         // SAFETY: `start + len` is within the mesh's N² elements; x and y are never written,
         // and the z..nz rows of different helpers do not overlap (bands partition the rows).
         unsafe {
@@ -101,24 +127,24 @@ impl Shared {
             MeshRows {
                 grid,
                 first_row: rows.start,
-                x: read(self.base[0]),
-                y: read(self.base[1]),
-                z: write(self.base[2]),
-                nx: write(self.base[3]),
-                ny: write(self.base[4]),
-                nz: write(self.base[5]),
+                x: read(base[0]),
+                y: read(base[1]),
+                z: write(base[2]),
+                nx: write(base[3]),
+                ny: write(base[4]),
+                nz: write(base[5]),
             }
         }
     }
 
     fn grid(&self) -> Grid {
         // SAFETY: `grid` is never written after construction, so reading it races with nothing.
-        unsafe { (*self.mesh.get()).grid }
+        unsafe { (*self.slots[0].mesh.get()).grid }
     }
 }
 
-/// Helper `h`'s side of one frame: compute its rows of frame k into the slot and publish them.
-/// The caller owns part `h`: it has not published since its last `Next` release.
+/// Helper `h`'s side of frame k: compute its rows of the frame into its slot and publish them.
+/// The caller's ring has just said the slot is free.
 pub(super) fn produce(spec: &LoopSpec, k: u64, ocean: &mut Ocean, shared: &Shared, h: usize) {
     if spec.stall_at_frame == Some(k) {
         // A helper that never publishes again: the main thread's timeout must end the cell.
@@ -127,55 +153,92 @@ pub(super) fn produce(spec: &LoopSpec, k: u64, ocean: &mut Ocean, shared: &Share
         }
     }
     let part = &shared.parts[h];
+    let s = shared.slot_of(k);
     let t = spec.time_of(k);
-    let t0 = Instant::now();
+    let started = Instant::now();
     if shared.parts.len() == 1 {
-        // SAFETY: the only helper owns the slot (part Empty), so nobody else touches the mesh.
-        ocean.step(t, unsafe { &mut *shared.mesh.get() });
+        // SAFETY: the only helper owns the free slot, so nobody else touches its mesh.
+        ocean.step(t, unsafe { &mut *shared.slots[s].mesh.get() });
     } else {
-        // SAFETY: helper h owns part h; other helpers only touch their own rows.
-        ocean.step_rows(t, unsafe { shared.band(h) });
+        // SAFETY: helper h owns its band of the free slot; other helpers only touch theirs.
+        ocean.step_rows(t, unsafe { shared.band(s, h) });
     }
-    // SAFETY: the stamp belongs to helper h until it publishes.
-    let stamp = unsafe { part.stamp.get_mut() };
-    stamp.step_ns = ns(t0.elapsed());
-    stamp.index = k;
+    let published = Instant::now();
+    // SAFETY: the stamp of a free slot belongs to helper h until it publishes.
+    unsafe {
+        *part.stamps[s].get_mut() = Stamp {
+            index: k,
+            step_ns: ns(published - started),
+            started,
+            published,
+        };
+    }
     part.handoff.publish();
 }
 
-/// The main thread's side of one threaded frame: workload, wait for every helper, copy,
-/// release them all.
+/// The main thread's side of threaded frame k: workload, wait for every helper's frame k,
+/// consume it, and release the frames its consumption no longer holds (every one for `copy`
+/// and `read`; with `handle`, all but the latest depth − 1).
 pub(super) fn consume<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
-    k: u64,
+    frames: &mut FrameCounter,
     shared: &Shared,
     render: &mut Mesh,
+    held: &mut u64,
     observe: &mut F,
 ) -> Result<FrameRecord, LoopError> {
-    let t0 = Instant::now();
+    let k = frames.frame;
+    let t0 = frames.start();
     workload::run(spec.workload_iterations, k);
     let t1 = Instant::now();
     for part in &shared.parts {
         part.handoff
-            .wait_published(t1 + spec.timeout)
+            .wait_published(k, t1 + spec.timeout)
             .map_err(|_| spec.stalled("the main thread (waiting for the mesh)"))?;
     }
     let t2 = Instant::now();
-    // SAFETY: every part is published and none released, so no helper is writing.
-    render.copy_from(unsafe { &*shared.mesh.get() });
-    // The frame's step is its slowest band: the time the main thread could have had to wait.
+    let s = shared.slot_of(k);
+    // SAFETY: every helper published frame k into slot s and none has it released, so no
+    // helper writes it until this thread releases it below.
+    let mesh = unsafe { &*shared.slots[s].mesh.get() };
+    let consumed = match spec.consume {
+        Consume::Copy => {
+            render.copy_from(mesh);
+            &*render
+        }
+        Consume::Read => {
+            frames.read(consume::read(mesh).folded());
+            mesh
+        }
+        Consume::Handle => mesh,
+    };
+    // The frame's step is its slowest band; its age runs from the last band's publication.
     let mut step_ns = 0;
+    let mut started = t2;
+    let mut published = None;
     let mut wrong = None;
     for part in &shared.parts {
         // SAFETY: as above, the stamp is published and not yet released.
-        let stamp = unsafe { part.stamp.get() };
+        let stamp = unsafe { part.stamps[s].get() };
         step_ns = step_ns.max(stamp.step_ns);
+        started = started.min(stamp.started);
+        published = Some(published.map_or(stamp.published, |p: Instant| p.max(stamp.published)));
         if stamp.index != k {
             wrong = Some(stamp.index);
         }
     }
-    for part in &shared.parts {
-        part.handoff.release();
+    let ahead = shared.parts[0].handoff.published().saturating_sub(k + 1);
+    observe(k, consumed);
+    *held += 1;
+    let keep = match spec.consume {
+        Consume::Handle => shared.slots.len() as u64 - 1,
+        Consume::Copy | Consume::Read => 0,
+    };
+    while *held > keep {
+        for part in &shared.parts {
+            part.handoff.release();
+        }
+        *held -= 1;
     }
     let t3 = Instant::now();
     if let Some(index) = wrong {
@@ -183,17 +246,20 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
             "frame {k} expected, helper delivered frame {index}"
         )));
     }
-    observe(k, render);
     Ok(FrameRecord {
         total_ns: ns(t3 - t0),
         workload_ns: ns(t1 - t0),
         wait_ns: ns(t2 - t1),
         copy_ns: ns(t3 - t2),
         step_ns,
+        other_ns: 0,
+        age_frames: ahead.min(u64::from(u32::MAX)) as u32,
+        age_ns: published.map_or(0, |p| ns(t2.saturating_duration_since(p))),
+        latency_ns: ns(t2.saturating_duration_since(started)),
     })
 }
 
 /// Nanoseconds of a duration, as frame records keep them.
-pub(super) fn ns(d: std::time::Duration) -> u64 {
+pub(super) fn ns(d: Duration) -> u64 {
     d.as_nanos() as u64
 }

@@ -2,11 +2,12 @@
 //! frame.
 
 use super::frames::FrameCounter;
-use super::slots::{consume, ns, produce, Shared};
+use super::slots::{consume, produce, Shared};
 use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
 use crate::affinity::{self, Pin};
 use crate::ocean::{Mesh, Ocean};
 use crate::sched::ThreadNoise;
+use crate::sync::Free;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -29,9 +30,9 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     };
     let mut render = Mesh::new(spec.grid);
     let mut frames = FrameCounter::new(budget);
+    let mut held = 0;
     loop {
         let k = frames.frame;
-        let t0 = Instant::now();
         let helper = {
             let (shared, spec) = (Arc::clone(&shared), spec.clone());
             let mut ocean = ocean
@@ -43,12 +44,25 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
                 .spawn(move || {
                     let pin = affinity::pin_current(core);
                     let watch = ThreadWatch::start(core);
-                    produce(&spec, k, &mut ocean, &shared, 0);
+                    // Depth 1: the previous frame's thread was joined and its slot released.
+                    let free = shared.parts[0]
+                        .handoff
+                        .wait_free(Instant::now() + spec.timeout);
+                    if free == Ok(Free::Slot) {
+                        produce(&spec, k, &mut ocean, &shared, 0);
+                    }
                     (ocean, pin, watch.stop(String::new()))
                 })
                 .map_err(|e| LoopError::Helper(e.to_string()))?
         };
-        let mut record = consume(spec, k, &shared, &mut render, &mut observe)?;
+        let record = consume(
+            spec,
+            &mut frames,
+            &shared,
+            &mut render,
+            &mut held,
+            &mut observe,
+        )?;
         let (back, pin, noise) = helper
             .join()
             .map_err(|_| LoopError::Helper("helper thread panicked".into()))?;
@@ -57,8 +71,8 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
         suffered.cpu_ns += noise.cpu_ns;
         suffered.run_delay_ns += noise.run_delay_ns;
         suffered.involuntary_switches += noise.involuntary_switches;
-        // The frame includes creating and joining its thread, as the paper's first build did.
-        record.total_ns = ns(t0.elapsed());
+        // The frame, which ends after the join, includes creating and joining its thread, as
+        // the paper's first build did.
         if frames.finish(record, spec)? {
             break;
         }

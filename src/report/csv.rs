@@ -26,6 +26,13 @@ struct CellRow<'a> {
     wait_ms: Option<f64>,
     copy_ms: Option<f64>,
     step_ms: Option<f64>,
+    other_ms: Option<f64>,
+    age_frames_mean: Option<f64>,
+    age_ms_median: Option<f64>,
+    age_ms_p99: Option<f64>,
+    input_to_consume_ms_median: Option<f64>,
+    input_to_consume_ms_p99: Option<f64>,
+    read_checksum: Option<u64>,
     frames: Option<usize>,
     seconds: Option<f64>,
     pinned: bool,
@@ -47,6 +54,7 @@ impl<'a> CellRow<'a> {
     fn of(cell: &'a Cell) -> CellRow<'a> {
         let s = cell.summary.as_ref();
         let (noise, cal) = (cell.noise.as_ref(), cell.calibration.as_ref());
+        let latency = s.and_then(|s| s.latency.as_ref());
         let stat = |f: fn(&crate::measure::Summary) -> f64| s.map(f);
         CellRow {
             key: &cell.key,
@@ -64,6 +72,13 @@ impl<'a> CellRow<'a> {
             wait_ms: stat(|s| s.breakdown.wait_ms),
             copy_ms: stat(|s| s.breakdown.copy_ms),
             step_ms: stat(|s| s.breakdown.step_ms),
+            other_ms: stat(|s| s.breakdown.other_ms),
+            age_frames_mean: latency.map(|l| l.age_frames_mean),
+            age_ms_median: latency.map(|l| l.age_ms_median),
+            age_ms_p99: latency.map(|l| l.age_ms_p99),
+            input_to_consume_ms_median: latency.map(|l| l.input_to_consume_ms_median),
+            input_to_consume_ms_p99: latency.map(|l| l.input_to_consume_ms_p99),
+            read_checksum: s.and_then(|s| s.read_checksum),
             frames: s.map(|s| s.frames),
             seconds: stat(|s| s.seconds),
             pinned: cell.pinned,

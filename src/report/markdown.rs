@@ -166,6 +166,7 @@ pub fn to_string(results: &Results) -> String {
     out.push_str(&preamble(results));
     out.push('\n');
     out.push_str(&tables(results));
+    out.push_str(&run_ahead(results));
     let failed: Vec<&Cell> = results.cells.iter().filter(|c| c.error.is_some()).collect();
     if !failed.is_empty() {
         out.push_str("\n## Failed cells\n\n");
@@ -178,6 +179,54 @@ pub fn to_string(results: &Results) -> String {
             );
         }
     }
+    out
+}
+
+/// What each run-ahead depth buys in FPS and costs in latency: one row per threaded cell but its
+/// depth, one column per depth, each entry the FPS and the median input-to-consume time. Empty
+/// when the run measured a single depth.
+pub fn run_ahead(results: &Results) -> String {
+    let mut depths: Vec<usize> = results.cells.iter().filter_map(|c| c.key.depth).collect();
+    depths.sort_unstable();
+    depths.dedup();
+    if depths.len() < 2 {
+        return String::new();
+    }
+    let mut rows: Vec<CellKey> = Vec::new();
+    for c in results.cells.iter().filter(|c| !c.key.is_serial()) {
+        let row = CellKey {
+            depth: Some(depths[0]),
+            ..c.key.clone()
+        };
+        if !rows.contains(&row) {
+            rows.push(row);
+        }
+    }
+    let mut out = String::from(
+        "### Run-ahead: FPS · median input-to-consume latency (ms) by depth\n\n| cell |",
+    );
+    for d in &depths {
+        let _ = write!(out, " depth {d} |");
+    }
+    let _ = write!(out, "\n|---|{}\n", "---:|".repeat(depths.len()));
+    for row in rows {
+        let _ = write!(out, "| {} |", row.label_without(&[Dim::Depth]));
+        for &d in &depths {
+            let cell = results.cell(&CellKey {
+                depth: Some(d),
+                ..row.clone()
+            });
+            let latency = cell
+                .and_then(|c| c.summary.as_ref())
+                .and_then(|s| s.latency.as_ref())
+                .map_or(String::new(), |l| {
+                    format!(" · {:.2}", l.input_to_consume_ms_median)
+                });
+            let _ = write!(out, " {}{latency} |", fps(cell));
+        }
+        out.push('\n');
+    }
+    out.push('\n');
     out
 }
 

@@ -1,13 +1,15 @@
 //! The per-frame hand-off between the helper (producer of meshes) and the main thread (consumer):
-//! one [`Handoff`] trait, one implementation per synchronisation method, and the one-frame slot
-//! the protocol protects.
+//! one [`Handoff`] trait, the ring of `depth` slots every method implements, one implementation
+//! per family of methods, and the slot cell the protocol protects.
 
 mod condvar;
 mod flag;
 mod mutex;
 mod primitives;
+mod ring;
 mod slot;
 
+pub use ring::Ring;
 pub use slot::Slot;
 
 use primitives::{PlMonitor, PlMutex, StdMonitor, StdMutex};
@@ -33,38 +35,16 @@ crate::named! {
 }
 
 impl SyncMethod {
-    /// A fresh hand-off of this method, in the state "slot empty, helper may write".
-    pub fn handoff(self) -> Box<dyn Handoff> {
+    /// A fresh hand-off of this method over a ring of `depth` slots, every slot free.
+    pub fn handoff(self, depth: usize) -> Box<dyn Handoff> {
+        let depth = depth.max(1) as u64;
         match self {
-            SyncMethod::Atomic => Box::new(flag::AtomicFlag::<flag::Yield>::default()),
-            SyncMethod::Spin => Box::new(flag::AtomicFlag::<flag::Spin>::default()),
-            SyncMethod::Mutex => Box::new(mutex::PolledLock::<PlMutex<State>>::default()),
-            SyncMethod::MutexStd => Box::new(mutex::PolledLock::<StdMutex<State>>::default()),
-            SyncMethod::Condvar => Box::new(condvar::Blocking::<PlMonitor<State>>::default()),
-            SyncMethod::CondvarStd => Box::new(condvar::Blocking::<StdMonitor<State>>::default()),
-        }
-    }
-}
-
-/// Who owns the slot: the protocol's whole state.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[repr(u8)]
-pub enum State {
-    /// The helper owns the slot and may write the next mesh.
-    #[default]
-    Empty = 0,
-    /// A mesh is published; the main thread owns the slot until it releases it.
-    Full = 1,
-    /// The main thread has stopped the loop; the helper must exit.
-    Shutdown = 2,
-}
-
-impl State {
-    fn from_u8(v: u8) -> State {
-        match v {
-            0 => State::Empty,
-            1 => State::Full,
-            _ => State::Shutdown,
+            SyncMethod::Atomic => Box::new(flag::AtomicRing::<flag::Yield>::new(depth)),
+            SyncMethod::Spin => Box::new(flag::AtomicRing::<flag::Spin>::new(depth)),
+            SyncMethod::Mutex => Box::new(mutex::PolledLock::<PlMutex<Ring>>::new(depth)),
+            SyncMethod::MutexStd => Box::new(mutex::PolledLock::<StdMutex<Ring>>::new(depth)),
+            SyncMethod::Condvar => Box::new(condvar::Blocking::<PlMonitor<Ring>>::new(depth)),
+            SyncMethod::CondvarStd => Box::new(condvar::Blocking::<StdMonitor<Ring>>::new(depth)),
         }
     }
 }
@@ -74,38 +54,35 @@ impl State {
 #[error("hand-off wait timed out")]
 pub struct TimedOut;
 
-/// What the helper learns when its wait for the release ends.
+/// What the helper learns when its wait for a free slot ends.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Released {
-    /// The main thread copied the mesh; compute the next one.
-    Next,
+pub enum Free {
+    /// A slot is free: compute the next frame into it.
+    Slot,
     /// The main thread stopped the loop.
     Shutdown,
 }
 
-/// One synchronisation method's implementation of the one-slot producer/consumer protocol.
+/// One synchronisation method's implementation of the ring protocol between one helper (the
+/// producer) and the main thread (the consumer), over `depth` slots.
 ///
-/// Writes to the slot made before `publish` are visible to the main thread after
-/// `wait_published` returns, and reads made before `release` happen before the helper's writes
-/// after `wait_released` returns: each pair is a release/acquire edge.
+/// The helper waits for a free slot, writes frame k into slot k mod depth and publishes it; the
+/// main thread waits for the next published frame, uses its slot, and releases it, oldest first.
+/// Writes to a slot before `publish` are visible to the main thread after its `wait_published`
+/// returns, and reads before `release` happen before the helper's writes after its `wait_free`
+/// returns: each pair is a release/acquire edge. At depth 1 this is the paper's one-slot loop.
 pub trait Handoff: Send + Sync {
-    /// Helper: the slot holds a finished mesh (Empty → Full).
+    /// Helper: blocks until a slot is free or the loop is shut down (which wins).
+    fn wait_free(&self, deadline: Instant) -> Result<Free, TimedOut>;
+    /// Helper: the slot it wrote holds a finished frame.
     fn publish(&self);
-    /// Main: blocks until a mesh is published.
-    fn wait_published(&self, deadline: Instant) -> Result<(), TimedOut>;
-    /// Main: the mesh is copied; the helper may overwrite the slot (Full → Empty).
+    /// Main: blocks until frame `frame` (counting from 0) is published. With frames still held
+    /// from earlier (`handle` consumption), this is not the oldest unreleased one.
+    fn wait_published(&self, frame: u64, deadline: Instant) -> Result<(), TimedOut>;
+    /// Main: done with the oldest published frame; the helper may reuse its slot.
     fn release(&self);
-    /// Helper: blocks until the main thread releases the slot or shuts the loop down.
-    fn wait_released(&self, deadline: Instant) -> Result<Released, TimedOut>;
-    /// Main: stops the loop; any waiting helper returns [`Released::Shutdown`].
+    /// Main: stops the loop; a waiting helper returns [`Free::Shutdown`].
     fn shutdown(&self);
-}
-
-/// The shared condition of both polling waits: returns `Some` when the wait is over.
-fn released_from(state: State) -> Option<Released> {
-    match state {
-        State::Full => None,
-        State::Empty => Some(Released::Next),
-        State::Shutdown => Some(Released::Shutdown),
-    }
+    /// Frames published so far (a snapshot; the main thread reads it for a mesh's age).
+    fn published(&self) -> u64;
 }

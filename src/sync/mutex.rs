@@ -1,54 +1,52 @@
-//! `mutex` and `mutex-std`: the state inside a critical section, polled with a yield.
+//! `mutex` and `mutex-std`: the ring's counters inside a critical section, polled with a yield.
 
 use super::flag::{poll, Yield};
 use super::primitives::Lock;
-use super::{released_from, Handoff, Released, State, TimedOut};
-use std::marker::PhantomData;
+use super::{Free, Handoff, Ring, TimedOut};
 use std::time::Instant;
 
-/// The paper's critical-section build: every look at the flag enters the critical section.
-pub struct PolledLock<L: Lock<State>> {
-    lock: L,
-    state: PhantomData<State>,
+/// The paper's critical-section build: every look at the counters enters the critical section.
+pub struct PolledLock<L: Lock<Ring>> {
+    ring: L,
+    depth: u64,
 }
 
-impl<L: Lock<State>> Default for PolledLock<L> {
-    fn default() -> Self {
+impl<L: Lock<Ring>> PolledLock<L> {
+    /// A ring of `depth` free slots.
+    pub fn new(depth: u64) -> Self {
         PolledLock {
-            lock: L::default(),
-            state: PhantomData,
+            ring: L::default(),
+            depth,
         }
     }
-}
 
-impl<L: Lock<State>> PolledLock<L> {
-    fn get(&self) -> State {
-        *self.lock.enter()
+    fn get(&self) -> Ring {
+        *self.ring.enter()
     }
 }
 
-impl<L: Lock<State>> Handoff for PolledLock<L> {
+impl<L: Lock<Ring>> Handoff for PolledLock<L> {
+    fn wait_free(&self, deadline: Instant) -> Result<Free, TimedOut> {
+        poll::<_, Yield>(deadline, || self.get().free(self.depth))
+    }
+
     fn publish(&self) {
-        let mut s = self.lock.enter();
-        // Empty → Full only: a shutdown that arrived while the helper computed must survive.
-        if *s == State::Empty {
-            *s = State::Full;
-        }
+        self.ring.enter().tail += 1;
     }
 
-    fn wait_published(&self, deadline: Instant) -> Result<(), TimedOut> {
-        poll::<_, Yield>(deadline, || (self.get() == State::Full).then_some(()))
+    fn wait_published(&self, frame: u64, deadline: Instant) -> Result<(), TimedOut> {
+        poll::<_, Yield>(deadline, || self.get().filled(frame))
     }
 
     fn release(&self) {
-        *self.lock.enter() = State::Empty;
-    }
-
-    fn wait_released(&self, deadline: Instant) -> Result<Released, TimedOut> {
-        poll::<_, Yield>(deadline, || released_from(self.get()))
+        self.ring.enter().head += 1;
     }
 
     fn shutdown(&self) {
-        *self.lock.enter() = State::Shutdown;
+        self.ring.enter().shutdown = true;
+    }
+
+    fn published(&self) -> u64 {
+        self.get().tail
     }
 }

@@ -6,6 +6,7 @@
 
 mod bars;
 mod frames;
+mod latency;
 mod render;
 
 use crate::cell::{Axes, Dim, DimValue, Value};
@@ -52,7 +53,14 @@ pub enum ChartError {
 }
 
 /// Every chart, by the file stem it is written under.
-pub const CHARTS: [&str; 5] = ["figure-5-1", "relative", "sync", "frame-times", "breakdown"];
+pub const CHARTS: [&str; 6] = [
+    "figure-5-1",
+    "relative",
+    "sync",
+    "frame-times",
+    "breakdown",
+    "latency-vs-fps",
+];
 
 /// Chart width and height in pixels (the breakdown grows taller when it has many rows).
 pub const CHART_SIZE: (u32, u32) = (1600, 900);
@@ -145,6 +153,7 @@ pub fn draw_with(
         bars::sync(&runs),
         frames::frame_times(&runs, focus),
         frames::breakdown(&runs, focus),
+        latency::latency_vs_fps(&runs, focus),
     ];
     let mut drawn = Drawn::default();
     for (name, chart) in CHARTS.into_iter().zip(built) {
@@ -371,7 +380,7 @@ impl<'a> Runs<'a> {
     }
 
     /// Every value of a numeric dimension listed in a config or measured, ascending.
-    fn counts(&self, dim: Dim) -> Vec<usize> {
+    pub(super) fn counts(&self, dim: Dim) -> Vec<usize> {
         let listed = self
             .runs
             .iter()

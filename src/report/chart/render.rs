@@ -139,11 +139,32 @@ pub(super) struct StackPlot {
     pub x_desc: String,
 }
 
+/// Points joined in order, each with a short label (a scatter whose points belong together).
+pub(super) struct Trace {
+    pub color: RGBColor,
+    /// (x, y, label) in the order the line joins them.
+    pub points: Vec<(f64, f64, String)>,
+}
+
+/// A panel of traces on numeric axes.
+pub(super) struct TracePanel {
+    pub caption: String,
+    pub traces: Vec<Trace>,
+}
+
+/// Traces in side-by-side panels, linear x from 0, linear y from 0.
+pub(super) struct TracePlot {
+    pub panels: Vec<TracePanel>,
+    pub x_desc: String,
+    pub y_desc: String,
+}
+
 /// What a chart draws below its frame.
 pub(super) enum Body {
     Bars(BarPlot),
     Lines(LinePlot),
     Stacks(StackPlot),
+    Traces(TracePlot),
 }
 
 /// A whole chart, ready to draw in any format.
@@ -187,6 +208,7 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, chart: &Chart) -> Res
         Body::Bars(p) => bars(&body, p)?,
         Body::Lines(p) => lines(&body, p)?,
         Body::Stacks(p) => stacks(&body, p)?,
+        Body::Traces(p) => traces(&body, p)?,
     }
     root.present().map_err(err)
 }
@@ -532,6 +554,53 @@ fn lines<DB: DrawingBackend>(
                         .iter()
                         .map(|&(_, x, v)| Circle::new((x, v), 5, series.color.filled())),
                 )
+                .map_err(err)?;
+        }
+    }
+    Ok(())
+}
+
+fn traces<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    plot: &TracePlot,
+) -> Result<(), DrawError> {
+    let areas = area.split_evenly((1, plot.panels.len().max(1)));
+    for (panel, area) in plot.panels.iter().zip(&areas) {
+        let points = || panel.traces.iter().flat_map(|t| &t.points);
+        let x_max = points().map(|p| p.0).fold(0.0, f64::max).max(1e-3) * 1.15;
+        let y_max = points().map(|p| p.1).fold(0.0, f64::max).max(1e-3) * 1.15;
+        let mut chart = ChartBuilder::on(area)
+            .caption(&panel.caption, font(19.0))
+            .margin(10)
+            .x_label_area_size(58)
+            .y_label_area_size(88)
+            .build_cartesian_2d(0.0..x_max, 0.0..y_max)
+            .map_err(err)?;
+        let y_fmt = |v: &f64| format!("{v:.0}");
+        let x_fmt = |v: &f64| ms(*v);
+        chart
+            .configure_mesh()
+            .x_desc(&plot.x_desc)
+            .y_desc(&plot.y_desc)
+            .x_label_formatter(&x_fmt)
+            .y_label_formatter(&y_fmt)
+            .label_style(font(15.0))
+            .axis_desc_style(font(17.0))
+            .light_line_style(LIGHT)
+            .max_light_lines(1)
+            .draw()
+            .map_err(err)?;
+        for trace in &panel.traces {
+            let line: Vec<(f64, f64)> = trace.points.iter().map(|p| (p.0, p.1)).collect();
+            chart
+                .draw_series(LineSeries::new(line, trace.color.stroke_width(2)))
+                .map_err(err)?;
+            chart
+                .draw_series(trace.points.iter().map(|(x, y, label)| {
+                    EmptyElement::at((*x, *y))
+                        + Circle::new((0, 0), 5, trace.color.filled())
+                        + Text::new(label.clone(), (7, -18), font(13.0))
+                }))
                 .map_err(err)?;
         }
     }
