@@ -174,6 +174,10 @@ pub struct RunArgs {
     /// Trials per cell, interleaved with the other cells' trials.
     #[arg(long, default_value_t = 3)]
     pub trials: u32,
+    /// Seconds a hand-off wait may take before the cell is given up; also the most work a
+    /// frame's workload may be.
+    #[arg(long, default_value_t = 5.0)]
+    pub timeout: f64,
     /// Cores for the main and helper threads, e.g. `0,1` (default: the first allowed).
     #[arg(long, value_delimiter = ',')]
     pub cores: Option<Vec<usize>>,
@@ -266,6 +270,10 @@ pub struct CompareArgs {
     /// A change counts only when its whole 95% interval clears this many percent.
     #[arg(long, default_value_t = compare::DEFAULT_THRESHOLD_PCT)]
     pub threshold: f64,
+    /// What to compare: FPS (higher is better) or the CPU time per frame spent waiting
+    /// (lower is better).
+    #[arg(long, value_enum, default_value = "fps")]
+    pub metric: compare::Metric,
     /// Output format.
     #[arg(long, value_enum, default_value = "text")]
     pub format: CompareFormat,

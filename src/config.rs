@@ -46,10 +46,14 @@ impl Level {
         }
     }
 
-    fn validate(&self, index: usize) -> Result<(), InputError> {
+    /// Checks the level's shape and, for `micros`, its bound: no more than `max_micros`.
+    fn validate(&self, index: usize, max_micros: f64) -> Result<(), InputError> {
         let field = format!("workload_levels[{index}]");
         match (self.micros, self.step_fraction, self.size) {
-            (Some(us), None, None) if us.is_finite() && us >= 0.0 => Ok(()),
+            (Some(us), None, None) if us.is_finite() && (0.0..=max_micros).contains(&us) => Ok(()),
+            (Some(us), None, None) if us.is_finite() && us > max_micros => Err(InputError(
+                too_much_work(&format!("{field}.micros"), us, max_micros),
+            )),
             (Some(us), None, None) => Err(InputError(format!(
                 "{field}.micros: must be a finite number >= 0, got {us}"
             ))),
@@ -142,6 +146,15 @@ impl Default for SweepConfig {
     }
 }
 
+/// The message for a level of more work per frame than the bound.
+pub fn too_much_work(field: &str, micros: f64, max_micros: f64) -> String {
+    format!(
+        "{field}: {micros} µs of work per frame is more than timeout_seconds allows \
+         (a helper waiting that long for its slot gives the cell up); allowed 0 to {max_micros}, \
+         or raise timeout_seconds"
+    )
+}
+
 /// Workloads 0-3 placed around the step times of the default sizes, as Figure 5-1 has them:
 /// 1 below the 40×40 step, 2 between the 40×40 and the 128×128 step, 3 above the 256×256 step.
 pub fn default_levels() -> Vec<Level> {
@@ -214,6 +227,12 @@ impl SweepConfig {
         }
         config.validate().map_err(in_file)?;
         Ok(config)
+    }
+
+    /// The most work a frame's workload may be, in microseconds: `timeout_seconds`, after which
+    /// a helper waiting for its slot gives the cell up.
+    pub fn max_workload_micros(&self) -> f64 {
+        self.timeout_seconds * 1e6
     }
 
     /// Every key a config may have, in the order a config is written.
@@ -311,7 +330,7 @@ impl SweepConfig {
             )));
         }
         for (i, level) in self.workload_levels.iter().enumerate() {
-            level.validate(i)?;
+            level.validate(i, self.max_workload_micros())?;
         }
         if let Some(&w) = self
             .axes

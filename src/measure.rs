@@ -13,11 +13,17 @@ pub struct FrameRecord {
     pub workload_ns: u64,
     /// Waiting for the helper's mesh (zero in `serial`).
     pub wait_ns: u64,
+    /// CPU time the main thread spent in that wait (the thread CPU clock).
+    pub wait_cpu_ns: u64,
     /// Consuming the mesh (copy, read or hand on) and releasing the helper.
     pub copy_ns: u64,
     /// The mesh step as timed by the thread that ran it (in threaded modes it overlaps the
     /// main thread's parts).
     pub step_ns: u64,
+    /// The helpers' wait for a free slot before computing this frame (the longest band's).
+    pub helper_wait_ns: u64,
+    /// CPU time the helpers spent in that wait, together.
+    pub helper_wait_cpu_ns: u64,
     /// The rest of the frame: the loop's own bookkeeping, and in `up` whatever the helper ran
     /// between the release and the next frame.
     pub other_ns: u64,
@@ -86,6 +92,9 @@ pub struct Breakdown {
     pub workload_ms: f64,
     /// Main thread waiting for the mesh.
     pub wait_ms: f64,
+    /// CPU time the main thread burnt in that wait (absent in results from before).
+    #[serde(default)]
+    pub wait_cpu_ms: f64,
     /// Main thread consuming the mesh (copying it to its render buffer, reading it, or handing
     /// it on) and releasing the helper.
     pub copy_ms: f64,
@@ -94,6 +103,19 @@ pub struct Breakdown {
     /// The rest of the frame, so the parts add up to it (absent in results from before).
     #[serde(default)]
     pub other_ms: f64,
+    /// The helpers waiting for a free slot (absent in results from before).
+    #[serde(default)]
+    pub helper_wait_ms: f64,
+    /// CPU time the helpers burnt in that wait (absent in results from before).
+    #[serde(default)]
+    pub helper_wait_cpu_ms: f64,
+}
+
+impl Breakdown {
+    /// CPU time per frame that every thread together spent waiting, in ms.
+    pub fn wait_cpu_ms(&self) -> f64 {
+        self.wait_cpu_ms + self.helper_wait_cpu_ms
+    }
 }
 
 /// How old the consumed meshes were: what run-ahead costs.
@@ -131,6 +153,10 @@ pub struct Summary {
     pub fps: f64,
     /// Each trial's frames ÷ seconds.
     pub fps_trials: Vec<f64>,
+    /// Each trial's mean CPU time per frame spent waiting, every thread together (ms; absent
+    /// in results from before).
+    #[serde(default)]
+    pub wait_cpu_ms_trials: Vec<f64>,
     /// Spread of `fps_trials`.
     pub fps_spread: Spread,
     /// Frame-time percentiles over every measured frame.
@@ -228,7 +254,18 @@ impl Summary {
                 copy_ms: part(|r| r.copy_ns),
                 step_ms: part(|r| r.step_ns),
                 other_ms: part(|r| r.other_ns),
+                wait_cpu_ms: part(|r| r.wait_cpu_ns),
+                helper_wait_ms: part(|r| r.helper_wait_ns),
+                helper_wait_cpu_ms: part(|r| r.helper_wait_cpu_ns),
             },
+            wait_cpu_ms_trials: trials
+                .iter()
+                .filter(|t| !t.frames.is_empty())
+                .map(|t| {
+                    let cpu = |r: &FrameRecord| ms(r.wait_cpu_ns + r.helper_wait_cpu_ns);
+                    stats::mean(&t.frames.iter().map(cpu).collect::<Vec<_>>())
+                })
+                .collect(),
             latency: Some(Latency::of(&all)),
             read_checksum: trials
                 .iter()

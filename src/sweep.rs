@@ -3,7 +3,7 @@
 //! rewrites the results files there), so an interrupted sweep keeps every finished row.
 
 use crate::calibrate::{self, Calibrate, RowCalibration, Yardstick};
-use crate::config::{InputError, SweepConfig};
+use crate::config::{self, InputError, SweepConfig};
 use crate::crosscore;
 use crate::frame_loop::{self, LoopError, LoopSpec, Mode, Threading};
 use crate::machine::Machine;
@@ -123,6 +123,15 @@ impl Sweep {
         let before = (cores[0] != cores[1])
             .then(|| crosscore::round_trip(cores[0], cores[1], ROUND_TRIP_BATCHES));
         let calibration = calibrate(&config, &waves);
+        for l in &calibration.levels {
+            if l.micros > config.max_workload_micros() {
+                return Err(InputError(config::too_much_work(
+                    &format!("workload_levels[{}] (a step_fraction level)", l.workload),
+                    l.micros.round(),
+                    config.max_workload_micros(),
+                )));
+            }
+        }
         let keys = cells(&config);
         Ok(Sweep {
             results: Results {
@@ -177,6 +186,11 @@ impl Sweep {
     /// The flag that stops the sweep after the current frame when raised.
     pub fn stop_flag(&self) -> Arc<AtomicBool> {
         Arc::clone(&self.stop)
+    }
+
+    /// The same sweep, stopped by `stop` instead of its own flag (a process-wide interrupt).
+    pub fn stopping_on(self, stop: Arc<AtomicBool>) -> Sweep {
+        Sweep { stop, ..self }
     }
 
     /// Runs the cells group by group, telling `observer` before every trial and after every

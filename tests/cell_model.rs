@@ -9,7 +9,8 @@ use oceanbench::cell::{Axes, Dim, Value};
 use oceanbench::config::SweepConfig;
 use oceanbench::measure::{FrameRecord, Summary, Trial};
 use oceanbench::report::chart::{self, ChartFormat, ChartOptions};
-use oceanbench::report::{compare, csv, markdown};
+use oceanbench::report::compare::{self, Metric};
+use oceanbench::report::{csv, markdown};
 use oceanbench::results::{Cell, CellKey, Pins, Results};
 use serde_json::json;
 use std::path::Path;
@@ -175,10 +176,11 @@ fn every_dimension_keeps_its_cells_apart_in_markdown_and_compare() {
             md.contains("| 125 ±") && md.contains("| 250 ±"),
             "{dim}:\n{md}"
         );
-        let c = compare::within(&r, dim, &baseline, 5.0).unwrap_or_else(|e| panic!("{dim}: {e}"));
+        let c = compare::within(&r, dim, &baseline, 5.0, Metric::Fps)
+            .unwrap_or_else(|e| panic!("{dim}: {e}"));
         assert_eq!(c.changes.len(), 1, "{dim}: {c:?}");
         assert_eq!(
-            (c.changes[0].base_fps, c.changes[0].new_fps),
+            (c.changes[0].base, c.changes[0].new),
             (125.0, 250.0),
             "{dim}"
         );
@@ -257,14 +259,14 @@ fn compare_by_mode_pairs_equal_helper_counts_only() {
     };
     let cells = keys.iter().map(|k| cell(k.clone(), fps(k))).collect();
     let r = results(config, cells);
-    let c = compare::within(&r, Dim::Mode, "up", 5.0).unwrap();
+    let c = compare::within(&r, Dim::Mode, "up", 5.0, Metric::Fps).unwrap();
     let dp: Vec<_> = c
         .changes
         .iter()
         .filter(|c| c.versus.as_deref() == Some("dp vs up"))
         .collect();
     assert_eq!(dp.len(), 2, "{c:?}");
-    let mut ratios: Vec<(f64, f64)> = dp.iter().map(|c| (c.base_fps, c.new_fps)).collect();
+    let mut ratios: Vec<(f64, f64)> = dp.iter().map(|c| (c.base, c.new)).collect();
     ratios.sort_by(|x, y| x.0.total_cmp(&y.0));
     assert_eq!(ratios, [(100.0, 125.0), (200.0, 400.0)]);
     assert_ne!(

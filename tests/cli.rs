@@ -2,6 +2,7 @@
 //! files, and the shipped configs.
 
 use oceanbench::config::SweepConfig;
+use oceanbench::named::Named;
 use oceanbench::ocean::WaveSet;
 use oceanbench::results::Results;
 use std::path::Path;
@@ -324,15 +325,14 @@ fn latency_lists_the_floor_and_every_method_on_each_placement() {
     let rows: Vec<serde_json::Value> =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let two_cores = oceanbench::affinity::allowed_cores().len() > 1;
-    assert_eq!(rows.len(), if two_cores { 13 } else { 6 });
-    for method in [
-        "atomic",
-        "spin",
-        "mutex",
-        "condvar",
-        "mutex-std",
-        "condvar-std",
-    ] {
+    let methods = oceanbench::sync::SyncMethod::names();
+    let expected = if two_cores {
+        2 * methods.len() + 1
+    } else {
+        methods.len()
+    };
+    assert_eq!(rows.len(), expected);
+    for method in methods {
         let n = rows.iter().filter(|r| r["method"] == method).count();
         assert_eq!(n, if two_cores { 2 } else { 1 }, "{method}");
         assert!(text.contains(method));

@@ -117,4 +117,5 @@ loom_tests! {
     condvar: SyncMethod::Condvar,
     mutex_std: SyncMethod::MutexStd,
     condvar_std: SyncMethod::CondvarStd,
+    adaptive: SyncMethod::Adaptive,
 }

@@ -7,7 +7,8 @@ use oceanbench::calibrate::Calibrate;
 use oceanbench::cell::Axes;
 use oceanbench::config::{Level, SweepConfig};
 use oceanbench::frame_loop::Mode;
-use oceanbench::report::{compare, markdown};
+use oceanbench::report::compare::{self, Metric};
+use oceanbench::report::markdown;
 use oceanbench::results::Results;
 use oceanbench::sweep::Sweep;
 use oceanbench::sync::SyncMethod;
@@ -136,7 +137,7 @@ fn a_hog_on_the_measured_core_makes_trials_noisy_and_they_are_retried() {
     assert_eq!(noise.retries, 2, "each was retried once before it was kept");
     let md = markdown::to_string(&results);
     assert!(md.contains("†") && md.contains(&cell.key.label()), "{md}");
-    let c = compare::between(&results, &results, 5.0);
+    let c = compare::between(&results, &results, 5.0, Metric::Fps);
     assert!(c.changes.iter().all(|c| c.noisy));
     assert!(c.to_text().contains("† rests on trials"));
 }

@@ -16,7 +16,7 @@ use strum::VariantArray;
 
 /// Frames per run at depths 1, 2 and 3.
 const FRAMES: [u64; 3] = [1_000_000, 250_000, 250_000];
-const MAX_SECONDS: f64 = 20.0;
+const MAX_SECONDS: f64 = 10.0;
 
 #[test]
 #[ignore = "soak: about four minutes; run by .ci/run"]

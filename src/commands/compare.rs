@@ -15,9 +15,13 @@ pub(super) fn compare(args: CompareArgs) -> Result<(), CliError> {
     }
     let base = load_results(&args.base)?;
     let comparison = match (&args.new, args.by, &args.baseline) {
-        (Some(new), None, _) => compare::between(&base, &load_results(new)?, args.threshold),
-        (None, Some(by), Some(baseline)) => compare::within(&base, by, baseline, args.threshold)
-            .map_err(|e| InputError(e.to_string()))?,
+        (Some(new), None, _) => {
+            compare::between(&base, &load_results(new)?, args.threshold, args.metric)
+        }
+        (None, Some(by), Some(baseline)) => {
+            { compare::within(&base, by, baseline, args.threshold, args.metric) }
+                .map_err(|e| InputError(e.to_string()))?
+        }
         _ => {
             return Err(InputError(
                 "compare: give BASE NEW, or one RESULTS with --by and --baseline".into(),

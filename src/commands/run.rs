@@ -1,6 +1,6 @@
 //! `oceanbench run`: measure the cells the flags describe and print their statistics.
 
-use super::{fail_on_errors, prepare_out_dir, CliError};
+use super::{fail_on_errors, interrupt, prepare_out_dir, CliError};
 use crate::cell::{Axes, Dim};
 use crate::cli::{DimArgs, RunArgs};
 use crate::config::{Level, SweepConfig};
@@ -43,6 +43,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
         min_seconds: args.seconds,
         max_seconds: (args.seconds * 10.0).max(10.0),
         waves_file: args.waves,
+        timeout_seconds: args.timeout,
         cores: args.cores,
         ..SweepConfig::default()
     };
@@ -54,11 +55,19 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
     if let Some(dir) = &args.out {
         prepare_out_dir(dir)?;
     }
-    let results = Sweep::prepare(config)?.run(&mut ());
+    let stop = interrupt::flag();
+    let sweep = Sweep::prepare(config)?.stopping_on(stop);
+    let results = sweep.run(&mut ());
     if let Some(dir) = &args.out {
         report::write_all(dir, &results).map_err(anyhow::Error::from)?;
     }
     print_cells(&results);
+    if results.finished.is_none() {
+        return Err(CliError::Interrupted(format!(
+            "interrupted; {} finished cell(s) printed above",
+            results.cells.len()
+        )));
+    }
     fail_on_errors(&results)
 }
 

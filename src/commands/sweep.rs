@@ -119,10 +119,11 @@ fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf)>, CliError> {
 }
 
 pub(super) fn sweep(args: SweepArgs) -> Result<(), CliError> {
+    let stop = interrupt::flag();
     let Some((sweep, dir)) = start(&args)? else {
         return Ok(());
     };
-    interrupt::forward_to(sweep.stop_flag());
+    let sweep = sweep.stopping_on(stop);
     let bar = if args.quiet {
         indicatif::ProgressBar::hidden()
     } else {

@@ -126,6 +126,14 @@ impl LoopSpec {
             .is_some_and(|s| s.load(Ordering::Relaxed))
     }
 
+    /// Runs frame k's workload; `Interrupted` when a stop request arrived meanwhile (it is
+    /// looked at every hundred microseconds or so of work).
+    fn workload(&self, k: u64) -> Result<(), LoopError> {
+        crate::workload::run_unless(self.workload_iterations, k, self.stop.as_deref())
+            .map(|_| ())
+            .ok_or(LoopError::Interrupted)
+    }
+
     fn time_of(&self, frame: u64) -> f32 {
         (frame as f64 * self.time_step) as f32
     }

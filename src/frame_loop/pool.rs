@@ -1,7 +1,7 @@
 //! The paper's thread pool: persistent helpers, created once per loop, one per band of rows.
 
 use super::frames::FrameCounter;
-use super::slots::{consume, produce, Shared};
+use super::slots::{consume, produce, timed, Shared};
 use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
 use crate::affinity::{self, Pin};
 use crate::ocean::{Mesh, Ocean};
@@ -40,8 +40,10 @@ impl Pool {
                     let watch = ThreadWatch::start(core);
                     let handoff = &*shared.parts[h].handoff;
                     for k in 0.. {
-                        match handoff.wait_free(Instant::now() + spec.timeout) {
-                            Ok(Free::Slot) => produce(&spec, k, &mut ocean, &shared, h),
+                        let (free, waited) =
+                            timed(|| handoff.wait_free(Instant::now() + spec.timeout));
+                        match free {
+                            Ok(Free::Slot) => produce(&spec, k, &mut ocean, &shared, h, waited),
                             Ok(Free::Shutdown) => break,
                             Err(_) => {
                                 return Err(spec.stalled("the helper (waiting for a free slot)"))

@@ -8,7 +8,6 @@ use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
 use crate::affinity;
 use crate::measure::FrameRecord;
 use crate::ocean::{Mesh, Ocean};
-use crate::workload;
 use std::time::Instant;
 
 pub(super) fn run<F: FnMut(u64, &Mesh)>(
@@ -25,7 +24,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     loop {
         let k = frames.frame;
         let t0 = frames.start();
-        workload::run(spec.workload_iterations, k);
+        spec.workload(k)?;
         let t1 = Instant::now();
         ocean.step(spec.time_of(k), &mut mesh);
         let t2 = Instant::now();

@@ -12,8 +12,8 @@ use super::frames::FrameCounter;
 use super::{LoopError, LoopSpec};
 use crate::measure::FrameRecord;
 use crate::ocean::{Grid, Mesh, MeshRows, Ocean};
+use crate::sched;
 use crate::sync::{Handoff, Slot};
-use crate::workload;
 use std::cell::UnsafeCell;
 use std::ops::Range;
 use std::time::{Duration, Instant};
@@ -26,6 +26,26 @@ struct Stamp {
     step_ns: u64,
     started: Instant,
     published: Instant,
+    /// The helper's wait for this slot to be free: wall and CPU time.
+    waited: Waited,
+}
+
+/// How long a wait took, on the wall clock and on the waiting thread's CPU clock.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Waited {
+    pub ns: u64,
+    pub cpu_ns: u64,
+}
+
+/// Times a wait on both clocks.
+pub(super) fn timed<T>(wait: impl FnOnce() -> T) -> (T, Waited) {
+    let (t0, c0) = (Instant::now(), sched::thread_cpu_ns().unwrap_or(0));
+    let out = wait();
+    let waited = Waited {
+        ns: ns(t0.elapsed()),
+        cpu_ns: sched::thread_cpu_ns().unwrap_or(0).saturating_sub(c0),
+    };
+    (out, waited)
 }
 
 /// One helper's share of every frame: its rows, its ring and its stamp in each slot.
@@ -85,6 +105,7 @@ impl Shared {
             step_ns: 0,
             started: now,
             published: now,
+            waited: Waited::default(),
         };
         let (n, h) = (spec.grid.n, spec.helpers().max(1));
         let parts = (0..h)
@@ -144,8 +165,15 @@ impl Shared {
 }
 
 /// Helper `h`'s side of frame k: compute its rows of the frame into its slot and publish them.
-/// The caller's ring has just said the slot is free.
-pub(super) fn produce(spec: &LoopSpec, k: u64, ocean: &mut Ocean, shared: &Shared, h: usize) {
+/// The caller's ring has just said the slot is free, after a wait of `waited`.
+pub(super) fn produce(
+    spec: &LoopSpec,
+    k: u64,
+    ocean: &mut Ocean,
+    shared: &Shared,
+    h: usize,
+    waited: Waited,
+) {
     if spec.stall_at_frame == Some(k) {
         // A helper that never publishes again: the main thread's timeout must end the cell.
         loop {
@@ -171,6 +199,7 @@ pub(super) fn produce(spec: &LoopSpec, k: u64, ocean: &mut Ocean, shared: &Share
             step_ns: ns(published - started),
             started,
             published,
+            waited,
         };
     }
     part.handoff.publish();
@@ -189,13 +218,27 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
 ) -> Result<FrameRecord, LoopError> {
     let k = frames.frame;
     let t0 = frames.start();
-    workload::run(spec.workload_iterations, k);
+    spec.workload(k)?;
     let t1 = Instant::now();
-    for part in &shared.parts {
-        part.handoff
-            .wait_published(k, t1 + spec.timeout)
-            .map_err(|_| spec.stalled("the main thread (waiting for the mesh)"))?;
-    }
+    let deadline = t1 + spec.timeout;
+    let (published_all, main_waited) = timed(|| {
+        for part in &shared.parts {
+            // In slices, so that a stop request ends a long wait too.
+            loop {
+                let slice = deadline.min(Instant::now() + STOP_CHECK);
+                match part.handoff.wait_published(k, slice) {
+                    Ok(()) => break,
+                    Err(_) if Instant::now() >= deadline => {
+                        return Err(spec.stalled("the main thread (waiting for the mesh)"))
+                    }
+                    Err(_) if spec.stopped() => return Err(LoopError::Interrupted),
+                    Err(_) => {}
+                }
+            }
+        }
+        Ok(())
+    });
+    published_all?;
     let t2 = Instant::now();
     let s = shared.slot_of(k);
     // SAFETY: every helper published frame k into slot s and none has it released, so no
@@ -214,6 +257,7 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
     };
     // The frame's step is its slowest band; its age runs from the last band's publication.
     let mut step_ns = 0;
+    let mut helpers_waited = Waited::default();
     let mut started = t2;
     let mut published = None;
     let mut wrong = None;
@@ -221,6 +265,8 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
         // SAFETY: as above, the stamp is published and not yet released.
         let stamp = unsafe { part.stamps[s].get() };
         step_ns = step_ns.max(stamp.step_ns);
+        helpers_waited.ns = helpers_waited.ns.max(stamp.waited.ns);
+        helpers_waited.cpu_ns += stamp.waited.cpu_ns;
         started = started.min(stamp.started);
         published = Some(published.map_or(stamp.published, |p: Instant| p.max(stamp.published)));
         if stamp.index != k {
@@ -250,14 +296,20 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
         total_ns: ns(t3 - t0),
         workload_ns: ns(t1 - t0),
         wait_ns: ns(t2 - t1),
+        wait_cpu_ns: main_waited.cpu_ns,
         copy_ns: ns(t3 - t2),
         step_ns,
+        helper_wait_ns: helpers_waited.ns,
+        helper_wait_cpu_ns: helpers_waited.cpu_ns,
         other_ns: 0,
         age_frames: ahead.min(u64::from(u32::MAX)) as u32,
         age_ns: published.map_or(0, |p| ns(t2.saturating_duration_since(p))),
         latency_ns: ns(t2.saturating_duration_since(started)),
     })
 }
+
+/// The longest a wait goes without looking at the stop flag.
+const STOP_CHECK: Duration = Duration::from_millis(50);
 
 /// Nanoseconds of a duration, as frame records keep them.
 pub(super) fn ns(d: Duration) -> u64 {

@@ -2,7 +2,7 @@
 //! frame.
 
 use super::frames::FrameCounter;
-use super::slots::{consume, produce, Shared};
+use super::slots::{consume, produce, timed, Shared};
 use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
 use crate::affinity::{self, Pin};
 use crate::ocean::{Mesh, Ocean};
@@ -45,11 +45,13 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
                     let pin = affinity::pin_current(core);
                     let watch = ThreadWatch::start(core);
                     // Depth 1: the previous frame's thread was joined and its slot released.
-                    let free = shared.parts[0]
-                        .handoff
-                        .wait_free(Instant::now() + spec.timeout);
+                    let (free, waited) = timed(|| {
+                        shared.parts[0]
+                            .handoff
+                            .wait_free(Instant::now() + spec.timeout)
+                    });
                     if free == Ok(Free::Slot) {
-                        produce(&spec, k, &mut ocean, &shared, 0);
+                        produce(&spec, k, &mut ocean, &shared, 0, waited);
                     }
                     (ocean, pin, watch.stop(String::new()))
                 })

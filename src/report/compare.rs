@@ -1,4 +1,5 @@
-//! Noise-aware comparisons of FPS: two runs cell by cell, or the values of one parameter against
+//! Noise-aware comparisons of FPS (or of the CPU time spent waiting): two runs cell by cell, or
+//! the values of one dimension against
 //! a baseline value inside one run.
 //!
 //! Each comparison is the change of the mean trial FPS, with a 95% percentile interval from a
@@ -20,6 +21,50 @@ const NOISY: &str = "†";
 
 /// The footnote of [`NOISY`].
 const NOISY_NOTE: &str = "† rests on trials in which other tasks or the hypervisor took more than the noise threshold: re-run before trusting it";
+
+crate::named! {
+    /// What a comparison compares, trial by trial.
+    pub enum Metric {
+        /// Frames per second; higher is better.
+        Fps,
+        /// CPU time per frame every thread spent waiting, in ms; lower is better.
+        WaitCpu,
+    }
+}
+
+impl Metric {
+    /// The metric's per-trial values of a cell, or why it has none.
+    fn trials(self, cell: &Cell) -> Result<Vec<f64>, String> {
+        let Some(s) = &cell.summary else {
+            return Err(match &cell.error {
+                Some(e) => format!("{}: {e}", cell.key.label()),
+                None => format!("{}: no measurements", cell.key.label()),
+            });
+        };
+        let (values, ok): (Vec<f64>, fn(f64) -> bool) = match self {
+            // Older files may lack per-trial values; the headline FPS then stands as one trial.
+            Metric::Fps if s.fps_trials.is_empty() => (vec![s.fps], |f| f > 0.0),
+            Metric::Fps => (s.fps_trials.clone(), |f| f > 0.0),
+            Metric::WaitCpu => (s.wait_cpu_ms_trials.clone(), |c| c >= 0.0),
+        };
+        if !values.is_empty() && values.iter().all(|&v| v.is_finite() && ok(v)) {
+            Ok(values)
+        } else {
+            Err(format!("{}: no {} measured", cell.key.label(), self.unit()))
+        }
+    }
+
+    fn higher_is_better(self) -> bool {
+        self == Metric::Fps
+    }
+
+    fn unit(self) -> &'static str {
+        match self {
+            Metric::Fps => "FPS",
+            Metric::WaitCpu => "waiting CPU ms",
+        }
+    }
+}
 
 /// The threshold the CLI uses when none is given, in percent.
 pub const DEFAULT_THRESHOLD_PCT: f64 = 5.0;
@@ -57,10 +102,10 @@ pub struct Change {
     /// Within a run, e.g. `spin vs atomic`; absent between runs.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub versus: Option<String>,
-    /// Mean trial FPS of the base (or baseline) cell.
-    pub base_fps: f64,
-    /// Mean trial FPS of the new (or alternative) cell.
-    pub new_fps: f64,
+    /// Mean over the trials of the base (or baseline) cell, in the metric's unit.
+    pub base: f64,
+    /// Mean over the trials of the new (or alternative) cell.
+    pub new: f64,
     /// Change of NEW against BASE, in percent.
     pub change_pct: f64,
     /// Lower end of the 95% interval of the change, in percent.
@@ -81,6 +126,8 @@ pub struct Change {
 pub struct Comparison {
     /// A change counts only when its whole interval clears this many percent.
     pub threshold_pct: f64,
+    /// What was compared.
+    pub metric: Metric,
     /// Within a run: the varied parameter; absent between runs.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub by: Option<Dim>,
@@ -131,10 +178,10 @@ pub enum CompareError {
 }
 
 /// Compares every cell of `new` with the cell of `base` that has the same key.
-pub fn between(base: &Results, new: &Results, threshold_pct: f64) -> Comparison {
+pub fn between(base: &Results, new: &Results, threshold_pct: f64, metric: Metric) -> Comparison {
     let new_by_key = first_by_key(&new.cells);
     let base_by_key = first_by_key(&base.cells);
-    let mut out = Comparison::empty(threshold_pct, None, None);
+    let mut out = Comparison::empty(threshold_pct, metric, None, None);
     let mut pairs = Vec::new();
     for b in unique(&base.cells) {
         match new_by_key.get(&b.key) {
@@ -167,6 +214,7 @@ pub fn within(
     by: Dim,
     baseline: &str,
     threshold_pct: f64,
+    metric: Metric,
 ) -> Result<Comparison, CompareError> {
     let cells = unique(&results.cells);
     let mut present: Vec<Value> = Vec::new();
@@ -207,7 +255,7 @@ pub fn within(
         .into_iter()
         .filter(|c| c.key.get(by).is_some())
         .partition(|c| c.key.get(by) == Some(base_value));
-    let mut out = Comparison::empty(threshold_pct, Some(by), Some(baseline.into()));
+    let mut out = Comparison::empty(threshold_pct, metric, Some(by), Some(baseline.into()));
     let mut pairs = Vec::new();
     let mut partnered = vec![false; others.len()];
     for b in &bases {
@@ -270,31 +318,16 @@ struct Pair<'a> {
     versus: Option<String>,
 }
 
-/// A cell's trial FPS, or why it cannot be compared.
-fn trials(cell: &Cell) -> Result<Vec<f64>, String> {
-    let Some(s) = &cell.summary else {
-        return Err(match &cell.error {
-            Some(e) => format!("{}: {e}", cell.key.label()),
-            None => format!("{}: no measurements", cell.key.label()),
-        });
-    };
-    // Older files may lack per-trial values; the headline FPS then stands as one trial.
-    let t = if s.fps_trials.is_empty() {
-        vec![s.fps]
-    } else {
-        s.fps_trials.clone()
-    };
-    if t.iter().all(|f| f.is_finite() && *f > 0.0) {
-        Ok(t)
-    } else {
-        Err(format!("{}: no FPS measured", cell.key.label()))
-    }
-}
-
 impl Comparison {
-    fn empty(threshold_pct: f64, by: Option<Dim>, baseline: Option<String>) -> Comparison {
+    fn empty(
+        threshold_pct: f64,
+        metric: Metric,
+        by: Option<Dim>,
+        baseline: Option<String>,
+    ) -> Comparison {
         Comparison {
             threshold_pct,
+            metric,
             by,
             baseline,
             changes: Vec::new(),
@@ -307,7 +340,7 @@ impl Comparison {
     fn fill(&mut self, pairs: Vec<Pair>) {
         let threshold = self.threshold_pct.abs();
         for p in pairs {
-            let (b, n) = match (trials(p.base), trials(p.new)) {
+            let (b, n) = match (self.metric.trials(p.base), self.metric.trials(p.new)) {
                 (Ok(b), Ok(n)) => (b, n),
                 (b, n) => {
                     for why in [b.err(), n.err()].into_iter().flatten() {
@@ -324,7 +357,7 @@ impl Comparison {
                 .any(|c| c.noise.as_ref().is_some_and(|n| n.noisy_trials() > 0));
             self.changes.push(Change {
                 noisy,
-                ..change(p.label, p.versus, &b, &n, threshold, seed)
+                ..change(p.label, p.versus, &b, &n, threshold, seed, self.metric)
             });
         }
         // Stable sort: within-noise rows keep the run's order, so groups stay together.
@@ -361,11 +394,12 @@ impl Comparison {
         )
     }
 
-    fn headers(&self) -> [&'static str; 2] {
+    fn headers(&self) -> [String; 2] {
+        let unit = self.metric.unit();
         if self.by.is_some() {
-            ["Baseline FPS", "Other FPS"]
+            [format!("Baseline {unit}"), format!("Other {unit}")]
         } else {
-            ["Base FPS", "New FPS"]
+            [format!("Base {unit}"), format!("New {unit}")]
         }
     }
 
@@ -405,8 +439,8 @@ impl Comparison {
                     format!("{}{noisy}", c.verdict.words()),
                     pct(c.change_pct),
                     format!("[{}, {}]{mark}", pct(c.ci_low_pct), pct(c.ci_high_pct)),
-                    format!("{:.1}", c.base_fps),
-                    format!("{:.1}", c.new_fps),
+                    value(self.metric, c.base),
+                    value(self.metric, c.new),
                     label,
                 ]
             })
@@ -415,8 +449,8 @@ impl Comparison {
 
     fn title(&self) -> String {
         match (&self.by, &self.baseline) {
-            (Some(by), Some(b)) => format!("FPS by {by} against {b}"),
-            _ => "FPS, new against base".to_string(),
+            (Some(by), Some(b)) => format!("{} by {by} against {b}", self.metric.unit()),
+            _ => format!("{}, new against base", self.metric.unit()),
         }
     }
 
@@ -429,8 +463,8 @@ impl Comparison {
             "Verdict".to_string(),
             "Change".into(),
             "95% CI".into(),
-            base.into(),
-            new.into(),
+            base,
+            new,
             "Cell".into(),
         ];
         let all: Vec<&Change> = self.changes.iter().collect();
@@ -539,6 +573,14 @@ fn pct(v: f64) -> String {
     format!("{v:+.1}%")
 }
 
+/// A value of `metric` as the tables show it.
+fn value(metric: Metric, v: f64) -> String {
+    match metric {
+        Metric::Fps => format!("{v:.1}"),
+        Metric::WaitCpu => format!("{v:.4}"),
+    }
+}
+
 fn change(
     label: String,
     versus: Option<String>,
@@ -546,9 +588,10 @@ fn change(
     new: &[f64],
     threshold: f64,
     seed: u64,
+    metric: Metric,
 ) -> Change {
-    let (base_fps, new_fps) = (stats::mean(base), stats::mean(new));
-    let change_pct = (new_fps / base_fps - 1.0) * 100.0;
+    let (base_mean, new_mean) = (stats::mean(base), stats::mean(new));
+    let change_pct = (new_mean / base_mean - 1.0) * 100.0;
     // One trial has no spread to resample; pretending otherwise would invent certainty.
     let single_trial = base.len() < 2 || new.len() < 2;
     let (ci_low_pct, ci_high_pct) = if single_trial {
@@ -556,18 +599,23 @@ fn change(
     } else {
         stats::bootstrap_change_pct(base, new, RESAMPLES, seed)
     };
+    let (up, down) = if metric.higher_is_better() {
+        (Verdict::Improved, Verdict::Regressed)
+    } else {
+        (Verdict::Regressed, Verdict::Improved)
+    };
     let verdict = if ci_low_pct > threshold {
-        Verdict::Improved
+        up
     } else if ci_high_pct < -threshold {
-        Verdict::Regressed
+        down
     } else {
         Verdict::WithinNoise
     };
     Change {
         label,
         versus,
-        base_fps,
-        new_fps,
+        base: base_mean,
+        new: new_mean,
         change_pct,
         ci_low_pct,
         ci_high_pct,

@@ -167,6 +167,7 @@ pub fn to_string(results: &Results) -> String {
     out.push('\n');
     out.push_str(&tables(results));
     out.push_str(&run_ahead(results));
+    out.push_str(&waiting(results));
     let failed: Vec<&Cell> = results.cells.iter().filter(|c| c.error.is_some()).collect();
     if !failed.is_empty() {
         out.push_str("\n## Failed cells\n\n");
@@ -225,6 +226,44 @@ pub fn run_ahead(results: &Results) -> String {
             let _ = write!(out, " {}{latency} |", fps(cell));
         }
         out.push('\n');
+    }
+    out.push('\n');
+    out
+}
+
+/// What waiting costs: per threaded cell, each side's wait per frame on the wall clock and on
+/// its CPU clock. A method that waits by burning the CPU shows equal columns; one that sleeps,
+/// a CPU column near zero. Empty for results from before the CPU was recorded.
+pub fn waiting(results: &Results) -> String {
+    let cells: Vec<&Cell> = results
+        .cells
+        .iter()
+        .filter(|c| !c.key.is_serial())
+        .filter(|c| {
+            c.summary
+                .as_ref()
+                .is_some_and(|s| !s.wait_cpu_ms_trials.is_empty())
+        })
+        .collect();
+    if cells.is_empty() {
+        return String::new();
+    }
+    let mut out = String::from(
+        "### Waiting per frame, wall and CPU (ms)\n\n\
+         | cell | main waits | main CPU | helper waits | helper CPU |\n\
+         |---|---:|---:|---:|---:|\n",
+    );
+    for c in cells {
+        let b = &c.summary.as_ref().expect("filtered on a summary").breakdown;
+        let _ = writeln!(
+            out,
+            "| {} | {:.3} | {:.3} | {:.3} | {:.3} |",
+            c.key.label(),
+            b.wait_ms,
+            b.wait_cpu_ms,
+            b.helper_wait_ms,
+            b.helper_wait_cpu_ms
+        );
     }
     out.push('\n');
     out

@@ -2,6 +2,7 @@
 //! one [`Handoff`] trait, the ring of `depth` slots every method implements, one implementation
 //! per family of methods, and the slot cell the protocol protects.
 
+mod adaptive;
 mod condvar;
 mod flag;
 mod mutex;
@@ -19,18 +20,22 @@ use std::time::Instant;
 crate::named! {
     /// The synchronisation methods a sweep can compare.
     pub enum SyncMethod {
-        /// Atomic flag, acquire/release; waiters poll with a yield (the paper's Interlocked + Sleep(0)).
+        /// Atomic counters, acquire/release; waiters poll with a yield (the paper's Interlocked +
+        /// Sleep(0)).
         Atomic,
-        /// The same flag, busy-waiting with a spin hint and never yielding.
+        /// The same counters, busy-waiting with a spin hint and never yielding.
         Spin,
-        /// parking_lot mutex as a critical section around the flag, polled with a yield.
+        /// parking_lot mutex as a critical section around the counters, polled with a yield.
         Mutex,
         /// parking_lot mutex and condition variable, blocking waits (an OS-level object).
         Condvar,
-        /// `std::sync::Mutex` around the flag, polled with a yield.
+        /// `std::sync::Mutex` around the counters, polled with a yield.
         MutexStd,
         /// `std::sync::Mutex` and `Condvar`, blocking waits.
         CondvarStd,
+        /// Spins briefly, then yields, then sleeps on a futex, each phase as long as the waits it
+        /// has seen call for: at the cache-line floor across cores, without losing a tick on one.
+        Adaptive,
     }
 }
 
@@ -45,6 +50,7 @@ impl SyncMethod {
             SyncMethod::MutexStd => Box::new(mutex::PolledLock::<StdMutex<Ring>>::new(depth)),
             SyncMethod::Condvar => Box::new(condvar::Blocking::<PlMonitor<Ring>>::new(depth)),
             SyncMethod::CondvarStd => Box::new(condvar::Blocking::<StdMonitor<Ring>>::new(depth)),
+            SyncMethod::Adaptive => Box::new(adaptive::AdaptiveRing::new(depth)),
         }
     }
 }

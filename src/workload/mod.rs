@@ -3,4 +3,4 @@
 
 mod synthetic;
 
-pub use synthetic::{run, Calibration};
+pub use synthetic::{run, run_unless, Calibration};

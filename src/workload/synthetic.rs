@@ -5,6 +5,7 @@
 use crate::stats;
 use serde::{Deserialize, Serialize};
 use std::hint::black_box;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// Runs `iterations` steps of the mixing chain from `seed` and returns its final value.
@@ -19,6 +20,26 @@ pub fn run(iterations: u64, seed: u64) -> u64 {
         z ^= z >> 31;
     }
     black_box(z)
+}
+
+/// Iterations between two looks at the stop flag: about 100 µs of work on current machines,
+/// far too few looks to show in the timing and often enough to stop any frame at once.
+const CHUNK: u64 = 1 << 14;
+
+/// Runs `iterations` steps as [`run`] does, looking at `stop` every [`CHUNK`] iterations; `None`
+/// when it was raised before the work was done.
+pub fn run_unless(iterations: u64, seed: u64, stop: Option<&AtomicBool>) -> Option<u64> {
+    let mut z = seed;
+    let mut left = iterations;
+    while left > 0 {
+        if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+            return None;
+        }
+        let n = left.min(CHUNK);
+        z = run(n, z);
+        left -= n;
+    }
+    Some(z)
 }
 
 /// The machine's speed at the workload, measured once per run.

@@ -4,6 +4,7 @@ use super::render::{Bar, BarPanel, BarPlot, Body, Chart, Frame, Legend, RefLine}
 use super::{mode_name, Missing, NothingToDraw, Runs, CHART_SIZE};
 use crate::frame_loop::Mode;
 use crate::measure::Summary;
+use crate::stats;
 use plotters::style::RGBColor;
 
 /// Colour per mode: serial grey, UP orange, DP blue (Okabe-Ito, readable with colour blindness).
@@ -258,8 +259,10 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
         legend.push(Legend::line(runs.series(run, "serial"), shade(NO_GAIN, r)));
     }
     let mut panels = vec![];
+    let mut cpu_panels = vec![];
     for size in runs.sizes() {
         let mut bars = vec![];
+        let mut cpu_bars = vec![];
         let mut refs = vec![];
         for (r, run) in runs.runs.iter().enumerate() {
             for (g, &sync) in syncs.iter().enumerate() {
@@ -268,6 +271,15 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
                     if let Some(s) = runs.summary(run, &key, &mut missing) {
                         let color = shade(mode_color(mode), r);
                         bars.push(fps_bar(s, g, r * modes.len() + m, color));
+                        if !s.wait_cpu_ms_trials.is_empty() {
+                            cpu_bars.push(Bar {
+                                group: g,
+                                slot: r * modes.len() + m,
+                                value: s.breakdown.wait_cpu_ms(),
+                                range: Some(stats::min_max(&s.wait_cpu_ms_trials)),
+                                color,
+                            });
+                        }
                     }
                 }
             }
@@ -279,27 +291,38 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
                 });
             }
         }
+        let groups: Vec<String> = syncs.iter().map(|s| s.name().to_string()).collect();
+        let caption = format!("{}, workload {workload}", size_caption(size));
+        if !cpu_bars.is_empty() {
+            cpu_panels.push(BarPanel {
+                caption: format!("{caption}: CPU spent waiting"),
+                groups: groups.clone(),
+                bars: cpu_bars,
+                refs: vec![],
+            });
+        }
         if !bars.is_empty() {
             panels.push(BarPanel {
-                caption: format!("{}, workload {workload}", size_caption(size)),
-                groups: syncs.iter().map(|s| s.name().to_string()).collect(),
+                caption,
+                groups,
                 bars,
                 refs,
             });
         }
     }
-    bar_chart(
+    let slots = runs.runs.len() * modes.len();
+    let mut chart = bar_chart(
         runs,
-        format!("Hand-off methods: FPS in UP and DP at workload {workload}"),
+        format!("Hand-off methods: FPS in UP and DP at workload {workload}, and the CPU their waits burn"),
         format!(
-            "Dashed line: serial FPS. Error bars: slowest and fastest trial. {}.",
+            "Dashed line: serial FPS. Error bars: slowest and fastest trial. Lower row: CPU time per frame the main thread and the helper spent waiting (a method that sleeps burns none). {}.",
             v.describe(false)
         ),
         legend,
         missing,
         BarPlot {
             panels,
-            slots: runs.runs.len() * modes.len(),
+            slots,
             x_desc: "hand-off method".into(),
             y_desc: "frames per second (FPS)".into(),
             shared_y: false,
@@ -311,5 +334,22 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
                 v.describe(false)
             )
         },
-    )
+    )?;
+    if !cpu_panels.is_empty() {
+        if let Body::Bars(fps_plot) = std::mem::replace(&mut chart.body, Body::BarRows(vec![])) {
+            chart.body = Body::BarRows(vec![
+                fps_plot,
+                BarPlot {
+                    panels: cpu_panels,
+                    slots,
+                    x_desc: "hand-off method".into(),
+                    y_desc: "CPU ms per frame spent waiting".into(),
+                    shared_y: true,
+                    format: super::render::ms,
+                },
+            ]);
+            chart.size.1 = CHART_SIZE.1 * 3 / 2;
+        }
+    }
+    Ok(chart)
 }

@@ -19,6 +19,7 @@ fn sync_color(sync: SyncMethod) -> RGBColor {
         SyncMethod::Condvar => RGBColor(0xcc, 0x79, 0xa7),
         SyncMethod::MutexStd => RGBColor(0xe6, 0x9f, 0x00),
         SyncMethod::CondvarStd => RGBColor(0x56, 0xb4, 0xe9),
+        SyncMethod::Adaptive => RGBColor(0x11, 0x11, 0x11),
     }
 }
 

@@ -165,6 +165,8 @@ pub(super) enum Body {
     Lines(LinePlot),
     Stacks(StackPlot),
     Traces(TracePlot),
+    /// Bar plots stacked in rows, each with its own axes.
+    BarRows(Vec<BarPlot>),
 }
 
 /// A whole chart, ready to draw in any format.
@@ -209,6 +211,11 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, chart: &Chart) -> Res
         Body::Lines(p) => lines(&body, p)?,
         Body::Stacks(p) => stacks(&body, p)?,
         Body::Traces(p) => traces(&body, p)?,
+        Body::BarRows(rows) => {
+            for (plot, area) in rows.iter().zip(body.split_evenly((rows.len().max(1), 1))) {
+                bars(&area, plot)?;
+            }
+        }
     }
     root.present().map_err(err)
 }
