@@ -42,6 +42,9 @@ pub enum Command {
     Latency(LatencyArgs),
     /// Write one frame of the surface as CSV (i,j,x,y,z,nx,ny,nz).
     Mesh(MeshArgs),
+    /// Find the balance point: the main-thread workload at which the main thread stops waiting
+    /// for the helper, with DP ÷ serial there and the speed-up curve around it.
+    Balance(BalanceArgs),
     /// Check what on this machine makes measurements noisy (governor, boost, SMT, isolation,
     /// steal, load, busy threads, pinning), each finding with how to fix it.
     Doctor(DoctorArgs),
@@ -294,6 +297,38 @@ pub struct LatencyArgs {
     /// Also write the rows as JSON to this file.
     #[arg(long)]
     pub json: Option<PathBuf>,
+}
+
+/// Flags of `oceanbench balance`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Each dimension flag takes one value or a list; by default the Figure 5-1 sizes in dp with atomic.\nExit status 2 when a range holds no balance point (the message says which side it fell on).\n\nExamples:\n  oceanbench balance\n  oceanbench balance --size 256 --mode dp,up --sync atomic,condvar --kernel reference,fast\n  oceanbench balance --size 40 --tolerance 1 --range 0.2,5"
+)]
+pub struct BalanceArgs {
+    /// A config (JSON) whose dimension lists choose the cells and whose `balance` object sets
+    /// the search; the flags below override it.
+    pub config: Option<PathBuf>,
+    /// The cells to search (workload is ignored: the search sets it).
+    #[command(flatten)]
+    pub select: DimArgs,
+    /// Stop when the bracket is narrower than this percentage of the step (default 2).
+    #[arg(long)]
+    pub tolerance: Option<f64>,
+    /// Points of the speed-up curve (default 12).
+    #[arg(long)]
+    pub points: Option<usize>,
+    /// The range of workloads, as multiples of the step: FROM,TO (default 0.1,10).
+    #[arg(long, value_delimiter = ',')]
+    pub range: Option<Vec<f64>>,
+    /// Paired trials at every probe (default 3).
+    #[arg(long)]
+    pub trials: Option<u32>,
+    /// Results directory (default: results/balance-<UTC timestamp>).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Do not draw the charts at the end.
+    #[arg(long)]
+    pub no_charts: bool,
 }
 
 /// Flags of `oceanbench doctor`.

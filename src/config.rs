@@ -2,6 +2,7 @@
 //! defaults that reproduce Figure 5-1 and validation that names the field and what is allowed.
 
 use crate::affinity;
+use crate::balance::BalanceSettings;
 use crate::calibrate::Calibrate;
 use crate::cell::{Axes, CellKey};
 use crate::frame_loop::{check_depth, check_helpers, Budget, Mode};
@@ -118,6 +119,8 @@ pub struct SweepConfig {
     pub noise_threshold_percent: f64,
     /// Times a noisy trial is re-run before it is kept anyway (0 to 10).
     pub retry_noisy: u32,
+    /// When present, the sweep also finds each size's balance point (see `oceanbench balance`).
+    pub balance: Option<BalanceSettings>,
 }
 
 impl Default for SweepConfig {
@@ -142,6 +145,7 @@ impl Default for SweepConfig {
             calibrate: Calibrate::Row,
             noise_threshold_percent: 2.0,
             retry_noisy: 0,
+            balance: None,
         }
     }
 }
@@ -392,6 +396,9 @@ impl SweepConfig {
                 "retry_noisy: must be 0 to 10, got {}",
                 self.retry_noisy
             )));
+        }
+        if let Some(b) = &self.balance {
+            b.validate("balance.")?;
         }
         self.wave_set()?;
         self.placement()?;

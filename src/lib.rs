@@ -2,6 +2,7 @@
 //! headless benchmark harness.
 
 pub mod affinity;
+pub mod balance;
 pub mod calibrate;
 pub mod cell;
 pub mod cli;

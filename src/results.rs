@@ -186,6 +186,12 @@ pub struct Results {
     /// What `doctor` found before the run (absent when it was not run).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub doctor: Option<crate::doctor::Report>,
+    /// Balance points found (`oceanbench balance`, or a sweep with a `balance` key).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub balance: Vec<crate::balance::BalanceEntry>,
+    /// Balance searches a sweep could not complete, and why.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub balance_failures: Vec<String>,
 }
 
 /// Why a results file could not be read; each names the file.

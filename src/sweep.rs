@@ -2,7 +2,9 @@
 //! interleaved, and hands the results to an [`Observer`] after every row (the sweep command
 //! rewrites the results files there), so an interrupted sweep keeps every finished row.
 
+use crate::balance::{self, BalanceError, BalanceSettings};
 use crate::calibrate::{self, Calibrate, RowCalibration, Yardstick};
+use crate::cell::{Dim, Value};
 use crate::config::{self, InputError, SweepConfig};
 use crate::crosscore;
 use crate::frame_loop::{self, LoopError, LoopSpec, Mode, Threading};
@@ -147,6 +149,8 @@ impl Sweep {
                 finished: None,
                 cells: Vec::new(),
                 doctor: None,
+                balance: Vec::new(),
+                balance_failures: Vec::new(),
             },
             waves,
             cores,
@@ -176,6 +180,44 @@ impl Sweep {
             keys,
             stop: Arc::new(AtomicBool::new(false)),
         })
+    }
+
+    /// Finds each size's balance point for the sweep's first DP cell of that size (the first
+    /// listed value of every other dimension), reporting after each; a search that cannot
+    /// bracket a balance point is recorded as a failure, not the end of the sweep.
+    fn find_balance_points(
+        &mut self,
+        settings: &BalanceSettings,
+        observer: &mut impl Observer,
+    ) -> Result<(), LoopError> {
+        let axes = &self.results.config.axes;
+        let mut keys: Vec<CellKey> = Vec::new();
+        for &size in &axes.sizes {
+            let first = axes
+                .cells()
+                .into_iter()
+                .find(|k| k.size == size && k.mode == Mode::Dp);
+            if let Some(k) = first.and_then(|k| k.with(Dim::Workload, Value::Count(0))) {
+                keys.push(k);
+            }
+        }
+        for key in keys {
+            match balance::search(self, &key, settings) {
+                Ok(entry) => self.results.balance.push(entry),
+                Err(BalanceError::Interrupted) => return Err(LoopError::Interrupted),
+                Err(e) => self
+                    .results
+                    .balance_failures
+                    .push(format!("{}: {e}", key.label())),
+            }
+            observer.row_finished(&self.results);
+        }
+        Ok(())
+    }
+
+    /// The main and helper cores.
+    pub fn cores(&self) -> [usize; 2] {
+        self.cores
     }
 
     /// The cells still to run.
@@ -256,6 +298,11 @@ impl Sweep {
                 return self.results;
             }
         }
+        if let Some(settings) = self.results.config.balance.clone() {
+            if let Err(LoopError::Interrupted) = self.find_balance_points(&settings, observer) {
+                return self.results;
+            }
+        }
         if self.cores[0] != self.cores[1] {
             self.results.round_trip.after = Some(crosscore::round_trip(
                 self.cores[0],
@@ -307,18 +354,18 @@ impl Sweep {
         (iterations, Some(calibration))
     }
 
-    fn start_cell(
-        &self,
-        key: &CellKey,
-        iterations: u64,
-        calibration: Option<RowCalibration>,
-    ) -> CellRun {
-        let config = &self.results.config;
-        let helper_core = match key.mode {
+    /// The core of the helper (helper 0, with several) in `mode`.
+    fn helper_core(&self, mode: Mode) -> usize {
+        match mode {
             Mode::Dp => self.cores[1],
             _ => self.cores[0],
-        };
-        let spec = LoopSpec {
+        }
+    }
+
+    /// The loop of cell `key` with `iterations` of workload per frame, on this sweep's cores.
+    pub fn loop_spec(&self, key: &CellKey, iterations: u64) -> LoopSpec {
+        let config = &self.results.config;
+        LoopSpec {
             grid: Grid::new(key.size, config.spacing).expect("validated"),
             waves: self.waves.clone(),
             normals: key.normals,
@@ -333,14 +380,24 @@ impl Sweep {
             helper_cores: frame_loop::helper_cores(
                 key.mode,
                 self.cores[0],
-                helper_core,
+                self.helper_core(key.mode),
                 key.helpers.unwrap_or(1),
             ),
             time_step: config.time_step,
             timeout: Duration::from_secs_f64(config.timeout_seconds),
             stop: Some(Arc::clone(&self.stop)),
             stall_at_frame: config.inject_stall_at_frame,
-        };
+        }
+    }
+
+    fn start_cell(
+        &self,
+        key: &CellKey,
+        iterations: u64,
+        calibration: Option<RowCalibration>,
+    ) -> CellRun {
+        let spec = self.loop_spec(key, iterations);
+        let helper_core = self.helper_core(key.mode);
         CellRun {
             key: key.clone(),
             pins: Pins {

@@ -40,7 +40,7 @@ fn file(files: &[PathBuf], name: &str) -> PathBuf {
         .clone()
 }
 
-/// The charts a results file from before run-ahead depth can draw: every one but the latency.
+/// The charts a results file from before run-ahead depth and balance searches can draw.
 const OLD_CHARTS: [&str; 5] = ["figure-5-1", "relative", "sync", "frame-times", "breakdown"];
 
 #[test]
@@ -53,9 +53,10 @@ fn fixture_charts_every_chart_in_both_formats() {
     let drawn = chart::draw_with(&[fixture()], dir.path(), &options).unwrap();
     let files = drawn.files;
     assert_eq!(files.len(), OLD_CHARTS.len() * 2);
-    assert_eq!(drawn.skipped.len(), 1);
-    assert_eq!(drawn.skipped[0].chart, "latency-vs-fps");
+    let skipped: Vec<&str> = drawn.skipped.iter().map(|s| s.chart).collect();
+    assert_eq!(skipped, ["latency-vs-fps", "balance"]);
     assert!(drawn.skipped[0].reason.contains("latency"));
+    assert!(drawn.skipped[1].reason.contains("balance"));
     for name in OLD_CHARTS {
         let (w, h) = png_size(&file(&files, &format!("{name}.png")));
         assert_eq!(w, CHART_SIZE.0, "{name}");

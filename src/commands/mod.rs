@@ -1,5 +1,6 @@
 //! The commands, one file each; `execute` dispatches a parsed command line to them.
 
+mod balance;
 mod chart;
 mod compare;
 mod doctor;
@@ -55,6 +56,7 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
         Command::Latency(args) => latency::latency(args),
         Command::Mesh(args) => mesh::mesh(args),
         Command::Doctor(args) => doctor::doctor(args),
+        Command::Balance(args) => balance::balance(args),
     }
 }
 

@@ -8,6 +8,7 @@
 //! noise" rather than as a coin flip.
 
 use crate::cell::{Dim, Value};
+use crate::report::shift::{self, BalanceShift};
 use crate::results::{Cell, CellKey, Results};
 use crate::stats;
 use itertools::Itertools;
@@ -142,6 +143,9 @@ pub struct Comparison {
     pub only_in_new: Vec<String>,
     /// Cells that failed or measured no FPS, so their pairs could not be compared.
     pub failed: Vec<String>,
+    /// Between two runs with balance searches: how each balance point moved.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub balance: Vec<BalanceShift>,
 }
 
 /// Why a within-run comparison could not be made.
@@ -200,6 +204,7 @@ pub fn between(base: &Results, new: &Results, threshold_pct: f64, metric: Metric
         }
     }
     out.fill(pairs);
+    out.balance = shift::between(base, new);
     out
 }
 
@@ -334,6 +339,7 @@ impl Comparison {
             only_in_base: Vec::new(),
             only_in_new: Vec::new(),
             failed: Vec::new(),
+            balance: Vec::new(),
         }
     }
 
@@ -510,6 +516,12 @@ impl Comparison {
                 let _ = writeln!(out, "  {l}");
             }
         }
+        if !self.balance.is_empty() {
+            let _ = writeln!(out, "Balance points (new against base):");
+            for b in &self.balance {
+                let _ = writeln!(out, "  {}", b.line());
+            }
+        }
         out
     }
 
@@ -557,6 +569,14 @@ impl Comparison {
         for (title, list) in self.unmatched() {
             let items: String = list.iter().map(|l| format!("- `{l}`\n")).collect();
             let _ = writeln!(out, "**{title}** ({}):\n\n{items}", list.len());
+        }
+        if !self.balance.is_empty() {
+            let items: String = self
+                .balance
+                .iter()
+                .map(|b| format!("- {}\n", b.line()))
+                .collect();
+            let _ = writeln!(out, "**Balance points** (new against base):\n\n{items}");
         }
         out
     }

@@ -3,6 +3,7 @@
 
 use crate::calibrate::Calibrate;
 use crate::results::{Cell, CellKey, CellNoise, Results};
+use crate::stats;
 use serde::Serialize;
 use std::io::Write;
 
@@ -152,7 +153,94 @@ pub fn write<T: Serialize>(
 
 /// The results as CSV text: one row per cell.
 pub fn to_string(results: &Results) -> Result<String, CsvError> {
+    to_text(results.cells.iter().map(CellRow::of))
+}
+
+/// One balance point: the searched cell, then what the search found.
+#[derive(Serialize)]
+struct BalanceRow<'a> {
+    #[serde(flatten)]
+    key: &'a CellKey,
+    step_us: f64,
+    balance_us: Option<f64>,
+    balance_us_low: Option<f64>,
+    balance_us_high: Option<f64>,
+    balance_fraction: Option<f64>,
+    dp_over_serial: Option<f64>,
+    dp_over_serial_low: Option<f64>,
+    dp_over_serial_high: Option<f64>,
+    dp_over_up: Option<f64>,
+    dp_over_up_low: Option<f64>,
+    dp_over_up_high: Option<f64>,
+    overhead_percent: Option<f64>,
+    probes: usize,
+    note: Option<&'a str>,
+}
+
+/// One probe of a balance search.
+#[derive(Serialize)]
+struct ProbeRow<'a> {
+    #[serde(flatten)]
+    key: &'a CellKey,
+    step_us: f64,
+    workload_us: f64,
+    workload_over_step: f64,
+    fps: f64,
+    serial_fps: f64,
+    up_fps: Option<f64>,
+    over_serial: f64,
+    main_wait_us: f64,
+    helper_wait_us: f64,
+    frame_ms: f64,
+}
+
+/// The balance points as CSV: one row per searched cell.
+pub fn balance(results: &Results) -> Result<String, CsvError> {
+    let rows = results.balance.iter().map(|e| {
+        let up = e.dp_over_up;
+        BalanceRow {
+            key: &e.key,
+            step_us: e.step_us,
+            balance_us: e.balance_us,
+            balance_us_low: e.balance_us_low,
+            balance_us_high: e.balance_us_high,
+            balance_fraction: e.fraction(),
+            dp_over_serial: e.dp_over_serial,
+            dp_over_serial_low: e.dp_over_serial_low,
+            dp_over_serial_high: e.dp_over_serial_high,
+            dp_over_up: up.map(|r| r.value),
+            dp_over_up_low: up.map(|r| r.low),
+            dp_over_up_high: up.map(|r| r.high),
+            overhead_percent: e.overhead_percent,
+            probes: e.probes.len(),
+            note: e.note.as_deref(),
+        }
+    });
+    to_text(rows)
+}
+
+/// Every probe of every balance search as CSV, means over the paired trials.
+pub fn balance_probes(results: &Results) -> Result<String, CsvError> {
+    let rows = results.balance.iter().flat_map(|e| {
+        e.probes.iter().map(move |p| ProbeRow {
+            key: &e.key,
+            step_us: e.step_us,
+            workload_us: p.workload_us,
+            workload_over_step: p.workload_us / e.step_us,
+            fps: stats::mean(&p.fps),
+            serial_fps: stats::mean(&p.serial_fps),
+            up_fps: (!p.up_fps.is_empty()).then(|| stats::mean(&p.up_fps)),
+            over_serial: stats::mean(&p.fps) / stats::mean(&p.serial_fps),
+            main_wait_us: stats::mean(&p.main_wait_us),
+            helper_wait_us: stats::mean(&p.helper_wait_us),
+            frame_ms: p.frame_ms,
+        })
+    });
+    to_text(rows)
+}
+
+fn to_text<T: Serialize>(rows: impl IntoIterator<Item = T>) -> Result<String, CsvError> {
     let mut out = Vec::new();
-    write(&mut out, results.cells.iter().map(CellRow::of))?;
+    write(&mut out, rows)?;
     Ok(String::from_utf8(out).expect("every field written is UTF-8"))
 }

@@ -168,6 +168,7 @@ pub fn to_string(results: &Results) -> String {
     out.push_str(&tables(results));
     out.push_str(&run_ahead(results));
     out.push_str(&waiting(results));
+    out.push_str(&balance(results));
     let failed: Vec<&Cell> = results.cells.iter().filter(|c| c.error.is_some()).collect();
     if !failed.is_empty() {
         out.push_str("\n## Failed cells\n\n");
@@ -266,6 +267,76 @@ pub fn waiting(results: &Results) -> String {
         );
     }
     out.push('\n');
+    out
+}
+
+/// The balance points: per searched cell, the helper's step S, the balance workload with its
+/// bracket, DP ÷ serial and DP ÷ UP there with their 95% intervals, the overhead above
+/// max(W, S), and where the run's workload levels fall against S. Empty when none was searched.
+pub fn balance(results: &Results) -> String {
+    if results.balance.is_empty() && results.balance_failures.is_empty() {
+        return String::new();
+    }
+    let mut out = String::from(
+        "### Balance points\n\n\
+         | cell | step S (µs) | balance W (µs) | W ÷ S | DP ÷ serial | DP ÷ UP | overhead | levels ÷ S | round trip (ns) |\n\
+         |---|---:|---:|---:|---:|---:|---:|---|---:|\n",
+    );
+    let interval =
+        |v: Option<f64>, lo: Option<f64>, hi: Option<f64>, digits: usize| match (v, lo, hi) {
+            (Some(v), Some(lo), Some(hi)) => format!("{v:.digits$} [{lo:.digits$}, {hi:.digits$}]"),
+            _ => "–".into(),
+        };
+    let mut notes = Vec::new();
+    for e in &results.balance {
+        let levels: Vec<String> = results
+            .calibration
+            .levels
+            .iter()
+            .filter(|l| l.micros > 0.0)
+            .map(|l| format!("w{} {:.2}", l.workload, l.micros / e.step_us))
+            .collect();
+        let label = e.key.label_without(&[Dim::Workload]);
+        let _ = writeln!(
+            out,
+            "| {label} | {:.0} | {} | {} | {} | {} | {} | {} | {} |",
+            e.step_us,
+            interval(e.balance_us, e.balance_us_low, e.balance_us_high, 0),
+            e.fraction().map_or("–".into(), |f| format!("{f:.2}")),
+            interval(
+                e.dp_over_serial,
+                e.dp_over_serial_low,
+                e.dp_over_serial_high,
+                2
+            ),
+            e.dp_over_up.map_or("–".into(), |r| format!(
+                "{:.2} [{:.2}, {:.2}]",
+                r.value, r.low, r.high
+            )),
+            e.overhead_percent
+                .map_or("–".into(), |o| format!("{o:+.1}%")),
+            levels.join(", "),
+            e.round_trip_ns
+                .iter()
+                .map(|r| format!("{r:.0}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+        );
+        if let Some(n) = &e.note {
+            notes.push(format!("- {label}: {n}"));
+        }
+    }
+    out.push('\n');
+    notes.extend(
+        results
+            .balance_failures
+            .iter()
+            .map(|f| format!("- no balance point: {f}")),
+    );
+    if !notes.is_empty() {
+        out.push_str(&notes.join("\n"));
+        out.push_str("\n\n");
+    }
     out
 }
 

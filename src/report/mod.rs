@@ -7,6 +7,7 @@ pub mod compare;
 pub mod csv;
 pub mod json;
 pub mod markdown;
+pub mod shift;
 
 use crate::results::Results;
 use std::path::{Path, PathBuf};
@@ -21,25 +22,42 @@ pub struct WriteError {
     pub source: std::io::Error,
 }
 
-/// Writes `results.json`, `results.csv` and `results.md` into `dir`, each atomically.
+/// Writes `results.json`, `results.csv` and `results.md` into `dir` (and `balance.csv` and
+/// `balance-probes.csv` when there are balance points), each atomically.
 pub fn write_all(dir: &Path, results: &Results) -> Result<(), WriteError> {
-    let at = |name: &str| dir.join(name);
     let failed = |name: &str| {
-        let path = at(name);
+        let path = dir.join(name);
         move |source| WriteError { path, source }
     };
-    let json = json::to_string(results).map_err(failed("results.json"))?;
-    let csv = csv::to_string(results).map_err(|e| WriteError {
-        path: at("results.csv"),
-        source: std::io::Error::other(e),
-    })?;
-    let md = markdown::to_string(results);
-    for (name, text) in [
-        ("results.json", json),
-        ("results.csv", csv),
-        ("results.md", md),
-    ] {
-        json::write_atomic(&at(name), text.as_bytes()).map_err(failed(name))?;
+    let from_csv = |name: &str, text: Result<String, csv::CsvError>| {
+        text.map_err(|e| failed(name)(std::io::Error::other(e)))
+    };
+    let mut files = vec![
+        (
+            "results.json",
+            json::to_string(results).map_err(failed("results.json"))?,
+        ),
+        ("results.md", markdown::to_string(results)),
+    ];
+    if !results.cells.is_empty() {
+        files.push((
+            "results.csv",
+            from_csv("results.csv", csv::to_string(results))?,
+        ));
+    }
+    if !results.balance.is_empty() {
+        files.push((
+            "balance.csv",
+            from_csv("balance.csv", csv::balance(results))?,
+        ));
+        let probes = csv::balance_probes(results);
+        files.push((
+            "balance-probes.csv",
+            from_csv("balance-probes.csv", probes)?,
+        ));
+    }
+    for (name, text) in files {
+        json::write_atomic(&dir.join(name), text.as_bytes()).map_err(failed(name))?;
     }
     Ok(())
 }

@@ -97,6 +97,8 @@ pub(super) fn latency_vs_fps(
                 "median input-to-consume latency (ms): helper starts a mesh → main thread takes it"
                     .into(),
             y_desc: "frames per second (FPS)".into(),
+            log_x: false,
+            y_format: |v| format!("{v:.0}"),
         }),
         size: CHART_SIZE,
     })

@@ -4,6 +4,7 @@
 //! Each chart is first built as plain data (`render::Chart`), then drawn once per format, so the
 //! PNG and the SVG always show the same thing.
 
+mod balance;
 mod bars;
 mod frames;
 mod latency;
@@ -53,13 +54,14 @@ pub enum ChartError {
 }
 
 /// Every chart, by the file stem it is written under.
-pub const CHARTS: [&str; 6] = [
+pub const CHARTS: [&str; 7] = [
     "figure-5-1",
     "relative",
     "sync",
     "frame-times",
     "breakdown",
     "latency-vs-fps",
+    "balance",
 ];
 
 /// Chart width and height in pixels (the breakdown grows taller when it has many rows).
@@ -154,6 +156,7 @@ pub fn draw_with(
         frames::frame_times(&runs, focus),
         frames::breakdown(&runs, focus),
         latency::latency_vs_fps(&runs, focus),
+        balance::balance(&runs),
     ];
     let mut drawn = Drawn::default();
     for (name, chart) in CHARTS.into_iter().zip(built) {

@@ -152,11 +152,14 @@ pub(super) struct TracePanel {
     pub traces: Vec<Trace>,
 }
 
-/// Traces in side-by-side panels, linear x from 0, linear y from 0.
+/// Traces in side-by-side panels, linear y from 0; x linear from 0, or logarithmic over the
+/// points' range.
 pub(super) struct TracePlot {
     pub panels: Vec<TracePanel>,
     pub x_desc: String,
     pub y_desc: String,
+    pub log_x: bool,
+    pub y_format: fn(f64) -> String,
 }
 
 /// What a chart draws below its frame.
@@ -574,42 +577,84 @@ fn traces<DB: DrawingBackend>(
     let areas = area.split_evenly((1, plot.panels.len().max(1)));
     for (panel, area) in plot.panels.iter().zip(&areas) {
         let points = || panel.traces.iter().flat_map(|t| &t.points);
-        let x_max = points().map(|p| p.0).fold(0.0, f64::max).max(1e-3) * 1.15;
         let y_max = points().map(|p| p.1).fold(0.0, f64::max).max(1e-3) * 1.15;
-        let mut chart = ChartBuilder::on(area)
-            .caption(&panel.caption, font(19.0))
-            .margin(10)
-            .x_label_area_size(58)
-            .y_label_area_size(88)
-            .build_cartesian_2d(0.0..x_max, 0.0..y_max)
-            .map_err(err)?;
-        let y_fmt = |v: &f64| format!("{v:.0}");
-        let x_fmt = |v: &f64| ms(*v);
-        chart
-            .configure_mesh()
-            .x_desc(&plot.x_desc)
-            .y_desc(&plot.y_desc)
-            .x_label_formatter(&x_fmt)
-            .y_label_formatter(&y_fmt)
-            .label_style(font(15.0))
-            .axis_desc_style(font(17.0))
-            .light_line_style(LIGHT)
-            .max_light_lines(1)
-            .draw()
-            .map_err(err)?;
-        for trace in &panel.traces {
-            let line: Vec<(f64, f64)> = trace.points.iter().map(|p| (p.0, p.1)).collect();
-            chart
-                .draw_series(LineSeries::new(line, trace.color.stroke_width(2)))
+        let x_max = points().map(|p| p.0).fold(0.0, f64::max).max(1e-3) * 1.15;
+        let builder = || {
+            let mut b = ChartBuilder::on(area);
+            b.caption(&panel.caption, font(19.0))
+                .margin(10)
+                .x_label_area_size(58)
+                .y_label_area_size(88);
+            b
+        };
+        if plot.log_x {
+            let x_min = points()
+                .map(|p| p.0)
+                .filter(|x| *x > 0.0)
+                .fold(f64::INFINITY, f64::min);
+            let (lo, hi) = if x_min.is_finite() {
+                (x_min / 1.3, x_max)
+            } else {
+                (0.1, 10.0)
+            };
+            let chart = builder()
+                .build_cartesian_2d(
+                    (lo..hi).log_scale().with_key_points(log_ticks(lo, hi)),
+                    0.0..y_max,
+                )
                 .map_err(err)?;
-            chart
-                .draw_series(trace.points.iter().map(|(x, y, label)| {
-                    EmptyElement::at((*x, *y))
-                        + Circle::new((0, 0), 5, trace.color.filled())
-                        + Text::new(label.clone(), (7, -18), font(13.0))
-                }))
+            trace_panel(chart, plot, panel, |v| format!("{v}"))?;
+        } else {
+            let chart = builder()
+                .build_cartesian_2d(0.0..x_max, 0.0..y_max)
                 .map_err(err)?;
+            trace_panel(chart, plot, panel, ms)?;
         }
+    }
+    Ok(())
+}
+
+fn trace_panel<DB: DrawingBackend, X>(
+    mut chart: ChartContext<'_, DB, Cartesian2d<X, RangedCoordf64>>,
+    plot: &TracePlot,
+    panel: &TracePanel,
+    x_label: impl Fn(f64) -> String,
+) -> Result<(), DrawError>
+where
+    X: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
+{
+    let x_fmt = |v: &f64| x_label(*v);
+    let y_fmt = |v: &f64| (plot.y_format)(*v);
+    chart
+        .configure_mesh()
+        .x_desc(&plot.x_desc)
+        .y_desc(&plot.y_desc)
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
+        .label_style(font(15.0))
+        .axis_desc_style(font(17.0))
+        .light_line_style(LIGHT)
+        .max_light_lines(1)
+        .draw()
+        .map_err(err)?;
+    for trace in &panel.traces {
+        let line: Vec<(f64, f64)> = trace.points.iter().map(|p| (p.0, p.1)).collect();
+        chart
+            .draw_series(LineSeries::new(line, trace.color.stroke_width(2)))
+            .map_err(err)?;
+        chart
+            .draw_series(
+                trace
+                    .points
+                    .iter()
+                    .filter(|p| !p.2.is_empty())
+                    .map(|(x, y, label)| {
+                        EmptyElement::at((*x, *y))
+                            + Circle::new((0, 0), 5, trace.color.filled())
+                            + Text::new(label.clone(), (7, -18), font(13.0))
+                    }),
+            )
+            .map_err(err)?;
     }
     Ok(())
 }
