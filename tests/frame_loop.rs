@@ -359,7 +359,7 @@ fn stalling(mode: Mode, threading: Threading, helpers: usize, frame: u64) -> Loo
     let mut s = spec(mode, SyncMethod::Atomic, threading, NormalMethod::Analytic);
     s.helper_cores = with_helpers(mode, helpers);
     s.stall_at_frame = Some(frame);
-    s.timeout = Duration::from_millis(200);
+    s.timeout = Duration::from_millis(300);
     s
 }
 
@@ -384,6 +384,32 @@ fn a_helper_stalled_mid_trial_times_out_and_is_left_behind() {
                 other => panic!("{mode:?} {threading:?} x{helpers}: {:?}", other.map(|_| ())),
             }
             assert_eq!(observed, 2, "frames before the stall are delivered");
+        }
+    }
+}
+
+/// A pool helper runs ahead into the frame after the last one (at depth 1, once the last frame
+/// is released); if it stalls there, the loop must not wait for it forever: either the shutdown
+/// reached it first, or the main thread gives up after the timeout and leaves it behind.
+#[test]
+fn a_helper_stalled_after_the_last_frame_is_left_behind() {
+    for mode in modes() {
+        for helpers in [1, 2] {
+            for depth in 1..=frame_loop::MAX_DEPTH {
+                // Whether the shutdown wins is a race: a few tries see both outcomes.
+                for _ in 0..3 {
+                    let mut s = stalling(mode, Threading::Pool, helpers, 3);
+                    s.depth = depth;
+                    let what = format!("{mode:?} x{helpers} depth {depth}");
+                    match frame_loop::run(&s, &Budget::exact(3), |_, _| {}) {
+                        Ok(run) => assert_eq!(run.trial.frames.len(), 3, "{what}"),
+                        Err(frame_loop::LoopError::Stalled { who, .. }) => {
+                            assert!(who.contains("helpers to stop"), "{what}: {who}")
+                        }
+                        Err(e) => panic!("{what}: {e}"),
+                    }
+                }
+            }
         }
     }
 }
