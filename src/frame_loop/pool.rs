@@ -91,6 +91,7 @@ impl Drop for Pool {
     }
 }
 
+/// Runs the loop from the calling thread with one persistent helper per band.
 pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
