@@ -353,3 +353,94 @@ fn unsupported_helper_counts_are_refused_with_the_reason() {
     let msg = refused(Threading::Pool, NormalMethod::Analytic, 0);
     assert!(msg.contains("1 to"), "{msg}");
 }
+
+/// A threaded spec whose helpers stop producing at `frame`, with a short hand-off timeout.
+fn stalling(mode: Mode, threading: Threading, helpers: usize, frame: u64) -> LoopSpec {
+    let mut s = spec(mode, SyncMethod::Atomic, threading, NormalMethod::Analytic);
+    s.helper_cores = with_helpers(mode, helpers);
+    s.stall_at_frame = Some(frame);
+    s.timeout = Duration::from_millis(300);
+    s
+}
+
+/// The stalled helper never returns, so a loop that joined it would never return either.
+#[test]
+fn a_helper_stalled_mid_trial_times_out_and_is_left_behind() {
+    for mode in modes() {
+        for (threading, helpers) in [
+            (Threading::Pool, 1),
+            (Threading::Pool, 2),
+            (Threading::Spawn, 1),
+        ] {
+            let s = stalling(mode, threading, helpers, 2);
+            let mut observed = 0;
+            match frame_loop::run(&s, &Budget::exact(10), |_, _| observed += 1) {
+                Err(frame_loop::LoopError::Stalled { who, .. }) => {
+                    assert!(
+                        who.contains("main thread"),
+                        "{mode:?} {threading:?} x{helpers}: {who}"
+                    )
+                }
+                other => panic!("{mode:?} {threading:?} x{helpers}: {:?}", other.map(|_| ())),
+            }
+            assert_eq!(observed, 2, "frames before the stall are delivered");
+        }
+    }
+}
+
+/// A pool helper runs ahead into the frame after the last one (at depth 1, once the last frame
+/// is released); if it stalls there, the loop must not wait for it forever: either the shutdown
+/// reached it first, or the main thread gives up after the timeout and leaves it behind.
+#[test]
+fn a_helper_stalled_after_the_last_frame_is_left_behind() {
+    for mode in modes() {
+        for helpers in [1, 2] {
+            for depth in 1..=frame_loop::MAX_DEPTH {
+                // Whether the shutdown wins is a race: a few tries see both outcomes.
+                for _ in 0..3 {
+                    let mut s = stalling(mode, Threading::Pool, helpers, 3);
+                    s.depth = depth;
+                    let what = format!("{mode:?} x{helpers} depth {depth}");
+                    match frame_loop::run(&s, &Budget::exact(3), |_, _| {}) {
+                        Ok(run) => assert_eq!(run.trial.frames.len(), 3, "{what}"),
+                        Err(frame_loop::LoopError::Stalled { who, .. }) => {
+                            assert!(who.contains("helpers to stop"), "{what}: {who}")
+                        }
+                        Err(e) => panic!("{what}: {e}"),
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Every loop shape ends with `Interrupted`, the pool's helpers shut down by its `Drop`.
+#[test]
+fn a_raised_stop_flag_interrupts_every_loop() {
+    let mut loops = vec![(Mode::Serial, Threading::Pool, 1)];
+    for mode in modes() {
+        loops.extend([
+            (mode, Threading::Pool, 1),
+            (mode, Threading::Pool, 2),
+            (mode, Threading::Spawn, 1),
+        ]);
+    }
+    for (mode, threading, helpers) in loops {
+        let mut s = spec(mode, SyncMethod::Condvar, threading, NormalMethod::Analytic);
+        s.helper_cores = with_helpers(mode, helpers);
+        s.stop = Some(std::sync::Arc::new(std::sync::atomic::AtomicBool::new(
+            true,
+        )));
+        let mut observed = 0;
+        let got = frame_loop::run(&s, &Budget::exact(10), |_, _| observed += 1);
+        assert!(
+            matches!(got, Err(frame_loop::LoopError::Interrupted)),
+            "{mode:?} {threading:?} x{helpers}: {:?}",
+            got.map(|_| ())
+        );
+        assert!(
+            observed <= 1,
+            "{mode:?} {threading:?} x{helpers}: no frame after the stop"
+        );
+    }
+}

@@ -7,6 +7,8 @@ use crate::affinity::{self, Pin};
 use crate::ocean::{Mesh, Ocean};
 use crate::sched::ThreadNoise;
 use crate::sync::Free;
+use std::convert::Infallible;
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::Instant;
@@ -15,11 +17,13 @@ use std::time::Instant;
 type HelperEnd = Result<(Pin, ThreadNoise), LoopError>;
 
 /// The running helpers. Dropping the pool shuts them down, so no early return or panic of the
-/// main thread leaves a helper waiting for a release; a stalled helper is then left behind,
-/// never joined, since it may never return.
+/// main thread leaves a helper waiting for a release; the helpers are then left behind, never
+/// joined, since a stalled one may never return.
 struct Pool {
     shared: Arc<Shared>,
     helpers: Vec<JoinHandle<HelperEnd>>,
+    /// Disconnects once every helper has ended: each holds a sender until it returns or unwinds.
+    ended: Receiver<Infallible>,
 }
 
 impl Pool {
@@ -27,15 +31,20 @@ impl Pool {
     /// per-band tables in it).
     fn start(spec: &LoopSpec, ocean: &Ocean) -> Result<Pool, LoopError> {
         let shared = Arc::new(Shared::new(spec));
+        let (ending, ended) = mpsc::channel();
         let mut pool = Pool {
             shared: Arc::clone(&shared),
             helpers: Vec::with_capacity(shared.parts.len()),
+            ended,
         };
         for (h, &core) in spec.helper_cores.iter().enumerate() {
             let (shared, spec, mut ocean) = (Arc::clone(&shared), spec.clone(), ocean.clone());
+            let ending = ending.clone();
             let helper = std::thread::Builder::new()
                 .name(format!("ocean-helper-{h}"))
                 .spawn(move || -> HelperEnd {
+                    // Held until this helper returns or unwinds: how `finish` learns it ended.
+                    let _ending = ending;
                     let pin = affinity::pin_current(core);
                     let watch = ThreadWatch::start(core);
                     let handoff = &*shared.parts[h].handoff;
@@ -58,9 +67,14 @@ impl Pool {
         Ok(pool)
     }
 
-    /// Shuts the helpers down and collects their pins and noise, helper k at index k.
-    fn finish(mut self) -> Result<Vec<(Pin, ThreadNoise)>, LoopError> {
+    /// Shuts the helpers down and collects their pins and noise, helper k at index k. A helper
+    /// that has not ended within the hand-off timeout is stuck in a step for a frame past the
+    /// last one: it is left behind, never joined, and the loop ends as a stalled hand-off.
+    fn finish(mut self, spec: &LoopSpec) -> Result<Vec<(Pin, ThreadNoise)>, LoopError> {
         self.shared.shutdown();
+        let Err(RecvTimeoutError::Disconnected) = self.ended.recv_timeout(spec.timeout) else {
+            return Err(spec.stalled("the main thread (waiting for the helpers to stop)"));
+        };
         std::mem::take(&mut self.helpers)
             .into_iter()
             .map(|h| {
@@ -77,6 +91,7 @@ impl Drop for Pool {
     }
 }
 
+/// Runs the loop from the calling thread with one persistent helper per band.
 pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
@@ -104,7 +119,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     }
     let mut threads = vec![main.stop("main".into())];
     let mut helper_pins = Vec::new();
-    for (pin, noise) in pool.finish()? {
+    for (pin, noise) in pool.finish(spec)? {
         helper_pins.push(pin);
         threads.push(noise);
     }

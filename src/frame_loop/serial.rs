@@ -10,6 +10,7 @@ use crate::measure::FrameRecord;
 use crate::ocean::{Mesh, Ocean};
 use std::time::Instant;
 
+/// Runs the loop on the calling thread until the budget is met.
 pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,

@@ -11,6 +11,7 @@ use crate::sync::Free;
 use std::sync::Arc;
 use std::time::Instant;
 
+/// Runs the loop from the calling thread, starting and joining a helper every frame.
 pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
