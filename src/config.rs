@@ -322,6 +322,7 @@ impl SweepConfig {
             )));
         }
         self.axes.check()?;
+        self.axes.check_coverage()?;
         if self.workload_levels.is_empty() {
             return Err(InputError(
                 "workload_levels: must list at least one value".into(),

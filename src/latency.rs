@@ -4,11 +4,10 @@
 use crate::affinity;
 use crate::crosscore;
 use crate::stats::{self, quantile};
-use crate::sync::{Free, Handoff, SyncMethod};
+use crate::sync::{Free, Handoff, Policy, SyncMethod};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-use strum::VariantArray;
 
 /// Most time one row of the table may take: `spin` on one core needs a scheduler tick per trip.
 const ROW_BUDGET: Duration = Duration::from_secs(2);
@@ -117,7 +116,7 @@ pub fn table(a: usize, b: usize, samples: usize) -> Vec<LatencyRow> {
         if main != helper {
             rows.push(ping_pong(main, helper, samples));
         }
-        for &method in SyncMethod::VARIANTS {
+        for method in SyncMethod::of_policy(Policy::Fifo) {
             rows.push(handoff_round_trip(method, main, helper, samples));
         }
     }

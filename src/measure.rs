@@ -33,6 +33,9 @@ pub struct FrameRecord {
     pub age_ns: u64,
     /// From the helper starting the consumed mesh (its input) to the main thread taking it.
     pub latency_ns: u64,
+    /// The frame index the consumed mesh was computed for: the frame's own under `fifo`, the
+    /// newest finished one under `latest`.
+    pub mesh_frame: u64,
 }
 
 /// One trial's frames.
@@ -133,6 +136,49 @@ pub struct Latency {
     pub input_to_consume_ms_p99: f64,
 }
 
+/// What the `latest` policy did with the helper's frames: which ones the main thread took,
+/// which it never saw, which it took twice.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Mailbox {
+    /// Helper frames published between two consumed ones and never taken, over every trial.
+    pub dropped: u64,
+    /// Frames that consumed the same mesh as the frame before, over every trial.
+    pub repeated: u64,
+    /// Each trial's consumed frame indices in order, as `[index, times]` runs: a mesh taken in
+    /// `times` frames running.
+    pub consumed: Vec<Vec<[u64; 2]>>,
+}
+
+impl Mailbox {
+    /// The statistics of the trials' consumed indices ([`FrameRecord::mesh_frame`]).
+    pub fn of(trials: &[Trial]) -> Mailbox {
+        let mut out = Mailbox {
+            dropped: 0,
+            repeated: 0,
+            consumed: Vec::new(),
+        };
+        for t in trials {
+            let mut runs: Vec<[u64; 2]> = Vec::new();
+            for r in &t.frames {
+                match runs.last_mut() {
+                    Some([index, times]) if *index == r.mesh_frame => {
+                        *times += 1;
+                        out.repeated += 1;
+                    }
+                    last => {
+                        if let Some([index, _]) = last {
+                            out.dropped += r.mesh_frame.saturating_sub(*index + 1);
+                        }
+                        runs.push([r.mesh_frame, 1]);
+                    }
+                }
+            }
+            out.consumed.push(runs);
+        }
+        out
+    }
+}
+
 /// Spread of the per-trial FPS.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Spread {
@@ -171,6 +217,9 @@ pub struct Summary {
     /// The consumed meshes' age (absent in results from before it was recorded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub latency: Option<Latency>,
+    /// Under the `latest` policy, what happened to the helper's frames (absent under `fifo`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mailbox: Option<Mailbox>,
     /// With `read` consumption, the trials' checksums of the meshes read, folded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub read_checksum: Option<u64>,
@@ -267,6 +316,7 @@ impl Summary {
                 })
                 .collect(),
             latency: Some(Latency::of(&all)),
+            mailbox: None,
             read_checksum: trials
                 .iter()
                 .filter_map(|t| t.checksum)

@@ -9,13 +9,13 @@ use crate::config::{self, InputError, SweepConfig};
 use crate::crosscore;
 use crate::frame_loop::{self, LoopError, LoopSpec, Mode, Threading};
 use crate::machine::Machine;
-use crate::measure::{Summary, Trial};
+use crate::measure::{Mailbox, Summary, Trial};
 use crate::ocean::{Grid, WaveSet};
 use crate::results::{
     CalibrationRecord, Cell, CellKey, CellNoise, LevelRecord, Pins, Placement, Results, StepTime,
 };
 use crate::sched::TrialNoise;
-use crate::sync::SyncMethod;
+use crate::sync::{Policy, SyncMethod};
 use crate::workload::Calibration;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -371,6 +371,7 @@ impl Sweep {
             normals: key.normals,
             kernel: key.kernel,
             mode: key.mode,
+            policy: key.policy.unwrap_or(Policy::Fifo),
             sync: key.sync.unwrap_or(SyncMethod::Atomic),
             threading: key.threading.unwrap_or(Threading::Pool),
             workload_iterations: iterations,
@@ -447,7 +448,11 @@ impl CellRun {
             summary: if failed {
                 None
             } else {
-                Summary::of(&self.trials)
+                Summary::of(&self.trials).map(|s| Summary {
+                    mailbox: (self.key.policy == Some(Policy::Latest))
+                        .then(|| Mailbox::of(&self.trials)),
+                    ..s
+                })
             },
             pinned: self.pinned && !failed,
             pins: self.pins,

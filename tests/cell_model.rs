@@ -22,6 +22,7 @@ fn case(dim: Dim) -> Option<(serde_json::Value, serde_json::Value, serde_json::V
         Dim::Size => (json!(16), json!(24), json!({})),
         Dim::Workload => (json!(0), json!(1), json!({})),
         Dim::Mode => (json!("up"), json!("dp"), json!({})),
+        Dim::Policy => (json!("fifo"), json!("latest"), json!({})),
         Dim::Sync => (json!("atomic"), json!("condvar"), json!({})),
         Dim::Threading => (json!("pool"), json!("spawn"), json!({})),
         Dim::Helpers => (json!(1), json!(2), json!({"normals": ["analytic"]})),
@@ -230,12 +231,17 @@ fn csv_tells_helper_counts_apart() {
     let r = results(config(Dim::Helpers), vec![cell(a, 125.0), cell(b, 250.0)]);
     let text = csv::to_string(&r).unwrap();
     let mut lines = text.lines();
-    assert!(lines.next().unwrap().split(',').any(|h| h == "helpers"));
+    let column = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .position(|h| h == "helpers")
+        .expect("a helpers column");
     let rows: Vec<&str> = lines.collect();
     assert_eq!(rows.len(), 2);
     assert_ne!(
-        rows[0].split(',').nth(5),
-        rows[1].split(',').nth(5),
+        rows[0].split(',').nth(column),
+        rows[1].split(',').nth(column),
         "{text}"
     );
 }

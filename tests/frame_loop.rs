@@ -4,9 +4,8 @@
 use oceanbench::affinity;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
 use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, WaveSet};
-use oceanbench::sync::SyncMethod;
+use oceanbench::sync::{Policy, SyncMethod};
 use std::time::Duration;
-use strum::VariantArray;
 
 const FRAMES: u64 = 300;
 
@@ -18,6 +17,7 @@ fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMetho
         normals,
         kernel: Kernel::Reference,
         mode,
+        policy: Policy::Fifo,
         sync,
         threading,
         workload_iterations: 50,
@@ -82,7 +82,7 @@ fn threaded_meshes_are_bit_identical_to_serial_each_frame_once_in_order() {
         assert_ne!(serial[0].1.z, serial[1].1.z);
         for mode in modes() {
             for threading in [Threading::Pool, Threading::Spawn] {
-                for &sync in SyncMethod::VARIANTS {
+                for sync in SyncMethod::of_policy(Policy::Fifo) {
                     let got = frames(&spec(mode, sync, threading, normals));
                     assert_eq!(got.len(), serial.len());
                     for ((k, mesh), (sk, smesh)) in got.iter().zip(&serial) {
@@ -130,7 +130,7 @@ fn pipelined_meshes_are_bit_identical_to_serial_for_every_depth_and_consumption(
             consume == Consume::Read
         );
         for mode in modes() {
-            for &sync in SyncMethod::VARIANTS {
+            for sync in SyncMethod::of_policy(Policy::Fifo) {
                 for depth in 1..=3 {
                     let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
                     (s.depth, s.consume) = (depth, consume);
@@ -286,7 +286,7 @@ fn split_meshes_are_bit_identical_to_serial_each_frame_once_in_order() {
         serial_spec.kernel = kernel;
         let serial = frames(&serial_spec);
         for mode in modes() {
-            for &sync in SyncMethod::VARIANTS {
+            for sync in SyncMethod::of_policy(Policy::Fifo) {
                 for helpers in [2, 3] {
                     let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
                     s.kernel = kernel;
@@ -443,4 +443,78 @@ fn a_raised_stop_flag_interrupts_every_loop() {
             "{mode:?} {threading:?} x{helpers}: no frame after the stop"
         );
     }
+}
+
+/// Under `latest`, every mesh the main thread takes is the surface at the frame index it was
+/// computed for (bit for bit what a lone `Ocean` gives at that time), and the indices never
+/// decrease, whatever the helper dropped or the main thread took twice.
+#[test]
+fn latest_meshes_are_the_serial_mesh_of_their_index_and_indices_never_decrease() {
+    use oceanbench::ocean::Ocean;
+    for sync in SyncMethod::of_policy(Policy::Latest) {
+        for mode in modes() {
+            for consume in [Consume::Copy, Consume::Handle] {
+                let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
+                s.policy = Policy::Latest;
+                s.consume = consume;
+                let seen = frames(&s);
+                let indices: Vec<u64> = seen.iter().map(|(k, _)| *k).collect();
+                assert!(
+                    indices.windows(2).all(|w| w[0] <= w[1]),
+                    "{sync} {mode} {consume}: {indices:?}"
+                );
+                let mut ocean = Ocean::new(s.grid, s.waves.clone(), s.normals, s.kernel).unwrap();
+                let mut want = Mesh::new(s.grid);
+                for (k, mesh) in &seen {
+                    ocean.step((*k as f64 * s.time_step) as f32, &mut want);
+                    assert!(
+                        mesh == &want,
+                        "{sync} {mode} {consume}: the mesh taken for index {k} differs"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The policy's refusals, one line naming the field: a method that cannot serve the policy
+/// (with the list of those that can), and what `latest` has no use for.
+#[test]
+fn latest_refuses_fifo_methods_depth_helpers_and_spawn() {
+    let base = || {
+        let mut s = spec(
+            Mode::Up,
+            SyncMethod::Atomic,
+            Threading::Pool,
+            NormalMethod::Analytic,
+        );
+        s.policy = Policy::Latest;
+        s
+    };
+    let refused = |s: LoopSpec| s.check().unwrap_err().to_string();
+    let mut s = base();
+    s.sync = SyncMethod::Condvar;
+    let e = refused(s);
+    assert!(
+        e.starts_with("sync: `condvar`") && e.contains("atomic, triple-buffer"),
+        "{e}"
+    );
+    let mut s = spec(
+        Mode::Up,
+        SyncMethod::TripleBuffer,
+        Threading::Pool,
+        NormalMethod::Analytic,
+    );
+    s.policy = Policy::Fifo;
+    assert!(refused(s).starts_with("sync: `triple-buffer`"));
+    let mut s = base();
+    s.depth = 2;
+    assert!(refused(s).starts_with("depth: 2"));
+    let mut s = base();
+    s.helper_cores = with_helpers(Mode::Up, 2);
+    assert!(refused(s).starts_with("helpers: "));
+    let mut s = base();
+    s.threading = Threading::Spawn;
+    assert!(refused(s).starts_with("threading: "));
+    assert!(base().check().is_ok());
 }

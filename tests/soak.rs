@@ -10,9 +10,8 @@
 use oceanbench::affinity;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
 use oceanbench::ocean::{Grid, Kernel, NormalMethod, WaveSet};
-use oceanbench::sync::SyncMethod;
+use oceanbench::sync::{Policy, SyncMethod};
 use std::time::Duration;
-use strum::VariantArray;
 
 /// Frames per run at depths 1, 2 and 3.
 const FRAMES: [u64; 3] = [1_000_000, 250_000, 250_000];
@@ -28,13 +27,14 @@ fn a_million_frames_per_method_none_lost() {
     }
     for (depth, frames_wanted) in (1..).zip(FRAMES) {
         for mode in modes.iter().copied() {
-            for &sync in SyncMethod::VARIANTS {
+            for sync in SyncMethod::of_policy(Policy::Fifo) {
                 let spec = LoopSpec {
                     grid: Grid::new(2, 1.0).unwrap(),
                     waves: WaveSet::default(),
                     normals: NormalMethod::Analytic,
                     kernel: Kernel::Reference,
                     mode,
+                    policy: Policy::Fifo,
                     sync,
                     threading: Threading::Pool,
                     workload_iterations: 0,

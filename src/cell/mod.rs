@@ -13,14 +13,22 @@ mod declare;
 
 pub use declare::{DimValue, Value};
 
-use crate::frame_loop::{Consume, Mode, Threading, MAX_DEPTH, MAX_HELPERS};
+use crate::frame_loop::{self, Consume, Mode, Threading, MAX_DEPTH, MAX_HELPERS};
 use crate::input::InputError;
 use crate::ocean::{mesh::MAX_SIZE, Kernel, NormalMethod};
-use crate::sync::SyncMethod;
+use crate::sync::{Policy, SyncMethod};
 use declare::{dim_values, dimensions};
 use itertools::Itertools;
 
-dim_values!(Mode, SyncMethod, Threading, Consume, NormalMethod, Kernel);
+dim_values!(
+    Mode,
+    Policy,
+    SyncMethod,
+    Threading,
+    Consume,
+    NormalMethod,
+    Kernel
+);
 
 dimensions! {
     /// Mesh size N (N×N vertices).
@@ -47,6 +55,15 @@ dimensions! {
         row: false,
         label: "{}",
         title: "{}",
+    }
+    /// Which frames the main thread consumes: every one in order, or the newest.
+    Policy(policy: Policy) {
+        config: policy = [Policy::Fifo],
+        cells: threaded,
+        row: false,
+        label: "{}",
+        title: "{} policy",
+        quiet: Policy::Fifo,
     }
     /// The hand-off method.
     Sync(sync: SyncMethod) {
@@ -196,6 +213,24 @@ impl CellKey {
         self.label_without(&others)
     }
 
+    /// Whether the loops can run this combination of values: a method belongs to one policy,
+    /// and `latest` runs one persistent helper with no ring. The sweep leaves such
+    /// combinations out of its product; see [`Axes::check_coverage`].
+    pub fn coherent(&self) -> Result<(), InputError> {
+        match (
+            self.policy,
+            self.sync,
+            self.depth,
+            self.helpers,
+            self.threading,
+        ) {
+            (Some(policy), Some(sync), Some(depth), Some(helpers), Some(threading)) => {
+                frame_loop::check_policy(policy, sync, depth, helpers, threading)
+            }
+            _ => Ok(()),
+        }
+    }
+
     /// The values of the row dimensions: cells with equal rows run interleaved.
     pub fn row(&self) -> Vec<Option<Value>> {
         Dim::ALL
@@ -209,8 +244,39 @@ impl CellKey {
 impl Axes {
     /// Every cell of the sweep, row by row: the cartesian product of the row dimensions, and
     /// within each row the product of the others, each in declaration order. Serial cells drop
-    /// the hand-off dimensions, so a row has one serial cell however many methods it crosses.
+    /// the hand-off dimensions, so a row has one serial cell however many methods it crosses;
+    /// combinations the loops cannot run (see [`CellKey::coherent`]) are left out.
     pub fn cells(&self) -> Vec<CellKey> {
+        self.product()
+            .into_iter()
+            .filter(|k| k.coherent().is_ok())
+            .collect()
+    }
+
+    /// Refuses lists with a value no runnable cell has, giving the reason the cells with it
+    /// cannot run (`policy: [latest]` with only `fifo` methods, say): a listed value that
+    /// silently vanished from the sweep would be a figure missing without a word.
+    pub fn check_coverage(&self) -> Result<(), InputError> {
+        let (kept, dropped): (Vec<CellKey>, Vec<CellKey>) = self
+            .product()
+            .into_iter()
+            .partition(|k| k.coherent().is_ok());
+        for &dim in Dim::ALL {
+            for value in self.values(dim) {
+                let has = |k: &&CellKey| k.get(dim) == Some(value);
+                if kept.iter().any(|k| has(&k)) {
+                    continue;
+                }
+                if let Some(Err(reason)) = dropped.iter().find(has).map(CellKey::coherent) {
+                    return Err(reason);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The whole product of the lists, runnable or not, without repeats.
+    fn product(&self) -> Vec<CellKey> {
         let product = |row: bool| {
             let dims: Vec<Dim> = Dim::ALL
                 .iter()

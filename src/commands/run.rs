@@ -96,6 +96,14 @@ fn print_cells(results: &Results) {
             ),
             None => println!("  failed: {}", cell.error.as_deref().unwrap_or("no frames")),
         }
+        if let Some(s) = &cell.summary {
+            if let (Some(m), Some(l)) = (&s.mailbox, &s.latency) {
+                println!(
+                    "  latest: mesh age {:.3} ms median, {:.3} ms p99; {} helper frames dropped, {} meshes taken twice, in {} frames",
+                    l.age_ms_median, l.age_ms_p99, m.dropped, m.repeated, s.frames
+                );
+            }
+        }
         if let Some(n) = &cell.noise {
             println!(
                 "  noise: kept off its core by other tasks up to {:.2}%, steal up to {:.2}% of a trial, {} involuntary switches; {} noisy trial(s), {} retried",

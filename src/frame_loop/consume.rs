@@ -18,6 +18,23 @@ crate::named! {
     }
 }
 
+/// Consumes `mesh` as `how` says: the mesh the frame goes on with (the render buffer under
+/// `copy`), and under `read` the read pass's folded checksum.
+pub(super) fn apply<'a>(
+    how: Consume,
+    mesh: &'a Mesh,
+    render: &'a mut Mesh,
+) -> (&'a Mesh, Option<u64>) {
+    match how {
+        Consume::Copy => {
+            render.copy_from(mesh);
+            (render, None)
+        }
+        Consume::Read => (mesh, Some(read(mesh).folded())),
+        Consume::Handle => (mesh, None),
+    }
+}
+
 /// What a read pass found: the mesh's bounding box and a checksum of every value.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReadPass {

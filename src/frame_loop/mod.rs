@@ -11,6 +11,7 @@
 
 mod consume;
 mod frames;
+mod latest;
 mod pool;
 mod serial;
 mod slots;
@@ -23,7 +24,7 @@ use crate::input::InputError;
 use crate::measure::Trial;
 use crate::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
 use crate::sched::{self, ThreadCounters, ThreadNoise, TrialNoise};
-use crate::sync::SyncMethod;
+use crate::sync::{Policy, SyncMethod};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -73,6 +74,8 @@ pub struct LoopSpec {
     pub kernel: Kernel,
     /// serial, up or dp.
     pub mode: Mode,
+    /// Which frames the main thread consumes (ignored in `serial`).
+    pub policy: Policy,
     /// The hand-off method (ignored in `serial`).
     pub sync: SyncMethod,
     /// Persistent or per-frame helper (ignored in `serial`).
@@ -117,7 +120,14 @@ impl LoopSpec {
             self.normals,
             self.grid.n,
         )?;
-        check_depth(self.depth, self.threading)
+        check_depth(self.depth, self.threading)?;
+        check_policy(
+            self.policy,
+            self.sync,
+            self.depth,
+            self.helpers(),
+            self.threading,
+        )
     }
 
     fn stopped(&self) -> bool {
@@ -132,6 +142,16 @@ impl LoopSpec {
         crate::workload::run_unless(self.workload_iterations, k, self.stop.as_deref())
             .map(|_| ())
             .ok_or(LoopError::Interrupted)
+    }
+
+    /// Fault injection: a helper that reaches `stall_at_frame` never publishes again, so the
+    /// main thread's timeout must end the cell.
+    fn stall_at(&self, frame: u64) {
+        if self.stall_at_frame == Some(frame) {
+            loop {
+                std::thread::park();
+            }
+        }
     }
 
     fn time_of(&self, frame: u64) -> f32 {
@@ -166,6 +186,43 @@ pub fn check_depth(depth: usize, threading: Threading) -> Result<(), InputError>
         return Err(InputError(format!(
             "depth: {depth} slots need threading `pool`; `spawn` joins its thread inside the frame, so it cannot run ahead"
         )));
+    }
+    Ok(())
+}
+
+/// Refuses a method the `policy` cannot hand over with, and what `latest` has no use for: it
+/// runs one persistent helper that never waits, so a ring's depth, a second helper's band or
+/// a thread per frame mean nothing to it.
+pub fn check_policy(
+    policy: Policy,
+    sync: SyncMethod,
+    depth: usize,
+    helpers: usize,
+    threading: Threading,
+) -> Result<(), InputError> {
+    if !sync.serves(policy) {
+        let can: Vec<&str> = SyncMethod::of_policy(policy).map(|m| m.name()).collect();
+        return Err(InputError(format!(
+            "sync: `{sync}` cannot hand over under policy `{policy}`; the methods that can are {}",
+            can.join(", ")
+        )));
+    }
+    if policy == Policy::Latest {
+        if depth != 1 {
+            return Err(InputError(format!(
+                "depth: {depth} has no meaning under policy `latest`, where the helper never waits for a slot; use depth 1"
+            )));
+        }
+        if helpers != 1 {
+            return Err(InputError(format!(
+                "helpers: policy `latest` runs 1 helper, got {helpers}; bands of one frame would each need the others' mailbox"
+            )));
+        }
+        if threading != Threading::Pool {
+            return Err(InputError(format!(
+                "threading: policy `latest` needs `pool`, got `{threading}`; a thread per frame cannot run ahead of the main thread"
+            )));
+        }
     }
     Ok(())
 }
@@ -375,7 +432,10 @@ impl CoreWatch {
 }
 
 /// Runs one loop on a fresh main thread (so the caller's own CPU mask is never changed) and
-/// calls `observe(frame, render_buffer)` after every frame's copy, warm-up frames included.
+/// calls `observe(index, mesh)` after every frame's consumption, warm-up frames included, with
+/// the mesh as consumed (the render buffer under `copy`) and the frame index it was computed
+/// for: under `fifo` the frame's own, under `latest` the newest the helper had finished, so
+/// indices may repeat or skip but never decrease.
 pub fn run<F>(spec: &LoopSpec, budget: &Budget, observe: F) -> Result<LoopRun, LoopError>
 where
     F: FnMut(u64, &Mesh) + Send,
@@ -387,6 +447,7 @@ where
             .name("ocean-main".into())
             .spawn_scoped(s, move || match (spec.mode, spec.threading) {
                 (Mode::Serial, _) => serial::run(spec, budget, ocean, observe),
+                _ if spec.policy == Policy::Latest => latest::run(spec, budget, ocean, observe),
                 (_, Threading::Pool) => pool::run(spec, budget, ocean, observe),
                 (_, Threading::Spawn) => spawn::run(spec, budget, ocean, observe),
             })

@@ -1,9 +1,12 @@
-//! The paper's thread pool: persistent helpers, created once per loop, one per band of rows.
+//! The paper's thread pool: persistent helpers, created once per loop, one per band of rows; and
+//! the persistent-helper machinery the `latest` loop shares with it (starting pinned helpers,
+//! stopping them without ever hanging on a stalled one, and driving the main thread's frames).
 
 use super::frames::FrameCounter;
 use super::slots::{consume, produce, timed, Shared};
 use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
 use crate::affinity::{self, Pin};
+use crate::measure::FrameRecord;
 use crate::ocean::{Mesh, Ocean};
 use crate::sched::ThreadNoise;
 use crate::sync::Free;
@@ -13,58 +16,66 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::Instant;
 
+/// What the main thread and its persistent helpers share: the one thing the pool needs of it
+/// is a way to tell every helper to stop.
+pub(super) trait Stop: Send + Sync + 'static {
+    /// Stops every helper: a waiting one wakes and returns, a working one returns after its
+    /// step.
+    fn shutdown(&self);
+}
+
+impl Stop for Shared {
+    fn shutdown(&self) {
+        Shared::shutdown(self);
+    }
+}
+
 /// What a helper returns when it is shut down: its pin and what it suffered.
 type HelperEnd = Result<(Pin, ThreadNoise), LoopError>;
 
-/// The running helpers. Dropping the pool shuts them down, so no early return or panic of the
-/// main thread leaves a helper waiting for a release; the helpers are then left behind, never
+/// The running helpers. Dropping them shuts them down, so no early return or panic of the main
+/// thread leaves a helper waiting for a release; the helpers are then left behind, never
 /// joined, since a stalled one may never return.
-struct Pool {
-    shared: Arc<Shared>,
-    helpers: Vec<JoinHandle<HelperEnd>>,
+pub(super) struct Helpers<S: Stop> {
+    /// What the helpers share with the main thread.
+    pub shared: Arc<S>,
+    threads: Vec<JoinHandle<HelperEnd>>,
     /// Disconnects once every helper has ended: each holds a sender until it returns or unwinds.
     ended: Receiver<Infallible>,
 }
 
-impl Pool {
-    /// Starts one pinned helper per part, each with its own `Ocean` (the fast kernel keeps
-    /// per-band tables in it).
-    fn start(spec: &LoopSpec, ocean: &Ocean) -> Result<Pool, LoopError> {
-        let shared = Arc::new(Shared::new(spec));
+impl<S: Stop> Helpers<S> {
+    /// Starts one helper per helper core, pinned to it and running `body(h)` until it returns.
+    pub fn start<B>(
+        spec: &LoopSpec,
+        shared: S,
+        mut body: impl FnMut(usize, &Arc<S>) -> B,
+    ) -> Result<Helpers<S>, LoopError>
+    where
+        B: FnOnce() -> Result<(), LoopError> + Send + 'static,
+    {
         let (ending, ended) = mpsc::channel();
-        let mut pool = Pool {
-            shared: Arc::clone(&shared),
-            helpers: Vec::with_capacity(shared.parts.len()),
+        let mut helpers = Helpers {
+            shared: Arc::new(shared),
+            threads: Vec::with_capacity(spec.helpers()),
             ended,
         };
         for (h, &core) in spec.helper_cores.iter().enumerate() {
-            let (shared, spec, mut ocean) = (Arc::clone(&shared), spec.clone(), ocean.clone());
-            let ending = ending.clone();
-            let helper = std::thread::Builder::new()
+            let (ending, body) = (ending.clone(), body(h, &helpers.shared));
+            let thread = std::thread::Builder::new()
                 .name(format!("ocean-helper-{h}"))
                 .spawn(move || -> HelperEnd {
                     // Held until this helper returns or unwinds: how `finish` learns it ended.
                     let _ending = ending;
                     let pin = affinity::pin_current(core);
                     let watch = ThreadWatch::start(core);
-                    let handoff = &*shared.parts[h].handoff;
-                    for k in 0.. {
-                        let (free, waited) =
-                            timed(|| handoff.wait_free(Instant::now() + spec.timeout));
-                        match free {
-                            Ok(Free::Slot) => produce(&spec, k, &mut ocean, &shared, h, waited),
-                            Ok(Free::Shutdown) => break,
-                            Err(_) => {
-                                return Err(spec.stalled("the helper (waiting for a free slot)"))
-                            }
-                        }
-                    }
+                    body()?;
                     Ok((pin, watch.stop(format!("helper {h}"))))
                 })
                 .map_err(|e| LoopError::Helper(e.to_string()))?;
-            pool.helpers.push(helper);
+            helpers.threads.push(thread);
         }
-        Ok(pool)
+        Ok(helpers)
     }
 
     /// Shuts the helpers down and collects their pins and noise, helper k at index k. A helper
@@ -75,7 +86,7 @@ impl Pool {
         let Err(RecvTimeoutError::Disconnected) = self.ended.recv_timeout(spec.timeout) else {
             return Err(spec.stalled("the main thread (waiting for the helpers to stop)"));
         };
-        std::mem::take(&mut self.helpers)
+        std::mem::take(&mut self.threads)
             .into_iter()
             .map(|h| {
                 h.join()
@@ -85,10 +96,42 @@ impl Pool {
     }
 }
 
-impl Drop for Pool {
+impl<S: Stop> Drop for Helpers<S> {
     fn drop(&mut self) {
         self.shared.shutdown();
     }
+}
+
+/// Runs a loop with persistent helpers from the calling thread: pins it, starts the helpers,
+/// runs `frame` until the budget is met, stops the helpers and reports.
+pub(super) fn drive<S: Stop>(
+    spec: &LoopSpec,
+    budget: &Budget,
+    start: impl FnOnce() -> Result<Helpers<S>, LoopError>,
+    mut frame: impl FnMut(&mut FrameCounter, &S) -> Result<FrameRecord, LoopError>,
+) -> Result<LoopRun, LoopError> {
+    let main_pin = affinity::pin_current(spec.main_core);
+    let (cores, main) = (CoreWatch::start(spec), ThreadWatch::start(spec.main_core));
+    let helpers = start()?;
+    let mut frames = FrameCounter::new(budget);
+    loop {
+        let record = frame(&mut frames, &helpers.shared)?;
+        if frames.finish(record, spec)? {
+            break;
+        }
+    }
+    let mut threads = vec![main.stop("main".into())];
+    let mut helper_pins = Vec::new();
+    for (pin, noise) in helpers.finish(spec)? {
+        helper_pins.push(pin);
+        threads.push(noise);
+    }
+    Ok(LoopRun {
+        trial: frames.trial(),
+        main_pin,
+        helper_pins,
+        noise: cores.stop(threads),
+    })
 }
 
 /// Runs the loop from the calling thread with one persistent helper per band.
@@ -98,35 +141,27 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     ocean: Ocean,
     mut observe: F,
 ) -> Result<LoopRun, LoopError> {
-    let main_pin = affinity::pin_current(spec.main_core);
-    let (cores, main) = (CoreWatch::start(spec), ThreadWatch::start(spec.main_core));
-    let pool = Pool::start(spec, &ocean)?;
+    // Each helper gets its own `Ocean`: the fast kernel keeps per-band tables in it.
+    let start = || {
+        Helpers::start(spec, Shared::new(spec), |h, shared| {
+            let (shared, spec, mut ocean) = (Arc::clone(shared), spec.clone(), ocean.clone());
+            move || {
+                let handoff = &*shared.parts[h].handoff;
+                for k in 0.. {
+                    let (free, waited) = timed(|| handoff.wait_free(Instant::now() + spec.timeout));
+                    match free {
+                        Ok(Free::Slot) => produce(&spec, k, &mut ocean, &shared, h, waited),
+                        Ok(Free::Shutdown) => break,
+                        Err(_) => return Err(spec.stalled("the helper (waiting for a free slot)")),
+                    }
+                }
+                Ok(())
+            }
+        })
+    };
     let mut render = Mesh::new(spec.grid);
-    let mut frames = FrameCounter::new(budget);
     let mut held = 0;
-    loop {
-        let record = consume(
-            spec,
-            &mut frames,
-            &pool.shared,
-            &mut render,
-            &mut held,
-            &mut observe,
-        )?;
-        if frames.finish(record, spec)? {
-            break;
-        }
-    }
-    let mut threads = vec![main.stop("main".into())];
-    let mut helper_pins = Vec::new();
-    for (pin, noise) in pool.finish(spec)? {
-        helper_pins.push(pin);
-        threads.push(noise);
-    }
-    Ok(LoopRun {
-        trial: frames.trial(),
-        main_pin,
-        helper_pins,
-        noise: cores.stop(threads),
+    drive(spec, budget, start, |frames, shared| {
+        consume(spec, frames, shared, &mut render, &mut held, &mut observe)
     })
 }

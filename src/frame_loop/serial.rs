@@ -1,7 +1,7 @@
 //! The paper's non-threaded build: one thread runs the workload, the mesh step and the copy in
 //! turn.
 
-use super::consume::{self, Consume};
+use super::consume;
 use super::frames::FrameCounter;
 use super::slots::ns;
 use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
@@ -29,17 +29,10 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
         let t1 = Instant::now();
         ocean.step(spec.time_of(k), &mut mesh);
         let t2 = Instant::now();
-        let consumed = match spec.consume {
-            Consume::Copy => {
-                render.copy_from(&mesh);
-                &render
-            }
-            Consume::Read => {
-                frames.read(consume::read(&mesh).folded());
-                &mesh
-            }
-            Consume::Handle => &mesh,
-        };
+        let (consumed, read) = consume::apply(spec.consume, &mesh, &mut render);
+        if let Some(sum) = read {
+            frames.read(sum);
+        }
         observe(k, consumed);
         let t3 = Instant::now();
         let record = FrameRecord {
@@ -50,6 +43,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
             step_ns: ns(t2 - t1),
             // The mesh is used in the frame it was computed in, from the step's start.
             latency_ns: ns(t2 - t1),
+            mesh_frame: k,
             ..FrameRecord::default()
         };
         if frames.finish(record, spec)? {

@@ -174,12 +174,7 @@ pub(super) fn produce(
     h: usize,
     waited: Waited,
 ) {
-    if spec.stall_at_frame == Some(k) {
-        // A helper that never publishes again: the main thread's timeout must end the cell.
-        loop {
-            std::thread::park();
-        }
-    }
+    spec.stall_at(k);
     let part = &shared.parts[h];
     let s = shared.slot_of(k);
     let t = spec.time_of(k);
@@ -244,17 +239,10 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
     // SAFETY: every helper published frame k into slot s and none has it released, so no
     // helper writes it until this thread releases it below.
     let mesh = unsafe { &*shared.slots[s].mesh.get() };
-    let consumed = match spec.consume {
-        Consume::Copy => {
-            render.copy_from(mesh);
-            &*render
-        }
-        Consume::Read => {
-            frames.read(consume::read(mesh).folded());
-            mesh
-        }
-        Consume::Handle => mesh,
-    };
+    let (consumed, read) = consume::apply(spec.consume, mesh, render);
+    if let Some(sum) = read {
+        frames.read(sum);
+    }
     // The frame's step is its slowest band; its age runs from the last band's publication.
     let mut step_ns = 0;
     let mut helpers_waited = Waited::default();
@@ -305,6 +293,7 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
         age_frames: ahead.min(u64::from(u32::MAX)) as u32,
         age_ns: published.map_or(0, |p| ns(t2.saturating_duration_since(p))),
         latency_ns: ns(t2.saturating_duration_since(started)),
+        mesh_frame: k,
     })
 }
 

@@ -36,6 +36,8 @@ struct CellRow<'a> {
     age_ms_p99: Option<f64>,
     input_to_consume_ms_median: Option<f64>,
     input_to_consume_ms_p99: Option<f64>,
+    dropped: Option<u64>,
+    repeated: Option<u64>,
     read_checksum: Option<u64>,
     frames: Option<usize>,
     seconds: Option<f64>,
@@ -59,6 +61,7 @@ impl<'a> CellRow<'a> {
         let s = cell.summary.as_ref();
         let (noise, cal) = (cell.noise.as_ref(), cell.calibration.as_ref());
         let latency = s.and_then(|s| s.latency.as_ref());
+        let mailbox = s.and_then(|s| s.mailbox.as_ref());
         let stat = |f: fn(&crate::measure::Summary) -> f64| s.map(f);
         CellRow {
             key: &cell.key,
@@ -85,6 +88,8 @@ impl<'a> CellRow<'a> {
             age_ms_p99: latency.map(|l| l.age_ms_p99),
             input_to_consume_ms_median: latency.map(|l| l.input_to_consume_ms_median),
             input_to_consume_ms_p99: latency.map(|l| l.input_to_consume_ms_p99),
+            dropped: mailbox.map(|m| m.dropped),
+            repeated: mailbox.map(|m| m.repeated),
             read_checksum: s.and_then(|s| s.read_checksum),
             frames: s.map(|s| s.frames),
             seconds: stat(|s| s.seconds),

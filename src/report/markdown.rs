@@ -5,6 +5,7 @@ use crate::calibrate::{self, Calibrate};
 use crate::cell::{Dim, DimValue};
 use crate::frame_loop::Mode;
 use crate::results::{Cell, CellKey, Results};
+use crate::sync::{Policy, SyncMethod};
 use std::fmt::Write;
 
 /// Marks a cell that kept trials disturbed beyond the noise threshold.
@@ -167,6 +168,7 @@ pub fn to_string(results: &Results) -> String {
     out.push('\n');
     out.push_str(&tables(results));
     out.push_str(&run_ahead(results));
+    out.push_str(&latest(results));
     out.push_str(&waiting(results));
     out.push_str(&balance(results));
     let failed: Vec<&Cell> = results.cells.iter().filter(|c| c.error.is_some()).collect();
@@ -227,6 +229,59 @@ pub fn run_ahead(results: &Results) -> String {
             let _ = write!(out, " {}{latency} |", fps(cell));
         }
         out.push('\n');
+    }
+    out.push('\n');
+    out
+}
+
+/// What the `latest` policy buys and what it drops: per `latest` cell, its FPS, the consumed
+/// meshes' age, the helper frames dropped and the meshes taken twice per consumed frame, and
+/// beside it the FPS of the `fifo` loop at depth 1 and 2 (same method where it serves `fifo`,
+/// else `atomic`). Empty when the run has no `latest` cell.
+pub fn latest(results: &Results) -> String {
+    let cells: Vec<&Cell> = results
+        .cells
+        .iter()
+        .filter(|c| c.key.policy == Some(Policy::Latest))
+        .collect();
+    if cells.is_empty() {
+        return String::new();
+    }
+    let mut out = String::from(
+        "### Latest mesh (mailbox) beside FIFO\n\n\
+         | cell | FPS | age ms p50 · p99 | dropped per frame | taken twice | FIFO depth 1 | FIFO depth 2 |\n\
+         |---|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for c in cells {
+        let fifo = |depth: usize| {
+            let sync = c.key.sync.filter(|s| s.serves(Policy::Fifo));
+            results.cell(&CellKey {
+                policy: Some(Policy::Fifo),
+                sync: Some(sync.unwrap_or(SyncMethod::Atomic)),
+                depth: Some(depth),
+                ..c.key.clone()
+            })
+        };
+        let s = c.summary.as_ref();
+        let age = s.and_then(|s| s.latency.as_ref()).map_or("–".into(), |l| {
+            format!("{:.2} · {:.2}", l.age_ms_median, l.age_ms_p99)
+        });
+        let (dropped, twice) = s
+            .and_then(|s| s.mailbox.as_ref().map(|m| (m, s.frames.max(1) as f64)))
+            .map_or(("–".into(), "–".into()), |(m, frames)| {
+                (
+                    format!("{:.2}", m.dropped as f64 / frames),
+                    format!("{:.1}%", 100.0 * m.repeated as f64 / frames),
+                )
+            });
+        let _ = writeln!(
+            out,
+            "| {} | {} | {age} | {dropped} | {twice} | {} | {} |",
+            c.key.label(),
+            fps(Some(c)),
+            fps(fifo(1)),
+            fps(fifo(2)),
+        );
     }
     out.push('\n');
     out

@@ -5,11 +5,13 @@
 mod adaptive;
 mod condvar;
 mod flag;
+mod mailbox;
 mod mutex;
 mod primitives;
 mod ring;
 mod slot;
 
+pub use mailbox::{MailboxIn, MailboxOut};
 pub use ring::Ring;
 pub use slot::Slot;
 
@@ -21,7 +23,8 @@ crate::named! {
     /// The synchronisation methods a sweep can compare.
     pub enum SyncMethod {
         /// Atomic counters, acquire/release; waiters poll with a yield (the paper's Interlocked +
-        /// Sleep(0)).
+        /// Sleep(0)). Under `latest`, the in-house triple buffer: one atomic index swapped each
+        /// way.
         Atomic,
         /// The same counters, busy-waiting with a spin hint and never yielding.
         Spin,
@@ -36,11 +39,68 @@ crate::named! {
         /// Spins briefly, then yields, then sleeps on a futex, each phase as long as the waits it
         /// has seen call for: at the cache-line floor across cores, without losing a tick on one.
         Adaptive,
+        /// The `latest` policy's triple buffer from the `triple_buffer` crate: the helper never
+        /// waits, the main thread takes the newest mesh.
+        TripleBuffer,
+    }
+}
+
+crate::named! {
+    /// Which frames the main thread consumes (Vulkan's present modes name the two).
+    pub enum Policy {
+        /// Every frame, in order; the helper waits when the ring is full (the paper's loop).
+        Fifo,
+        /// The newest finished frame; the helper never waits and older frames are dropped
+        /// (MAILBOX).
+        Latest,
     }
 }
 
 impl SyncMethod {
+    /// Whether the method can hand over under `policy`: through a ring under `fifo`, through a
+    /// mailbox under `latest`.
+    pub fn serves(self, policy: Policy) -> bool {
+        match self {
+            SyncMethod::Atomic => true,
+            SyncMethod::TripleBuffer => policy == Policy::Latest,
+            _ => policy == Policy::Fifo,
+        }
+    }
+
+    /// The methods that can hand over under `policy`, in declaration order.
+    pub fn of_policy(policy: Policy) -> impl Iterator<Item = SyncMethod> {
+        use strum::VariantArray;
+        SyncMethod::VARIANTS
+            .iter()
+            .copied()
+            .filter(move |m| m.serves(policy))
+    }
+
+    /// A fresh mailbox of this method over three copies of `initial`, for the `latest` policy;
+    /// `None` for a method that cannot serve it.
+    #[allow(clippy::type_complexity)]
+    pub fn mailbox<T: Clone + Send + 'static>(
+        self,
+        initial: &T,
+    ) -> Option<(Box<dyn MailboxIn<T>>, Box<dyn MailboxOut<T>>)> {
+        match self {
+            SyncMethod::TripleBuffer => {
+                let (i, o) = triple_buffer::triple_buffer(initial);
+                Some((Box::new(i), Box::new(o)))
+            }
+            SyncMethod::Atomic => {
+                let (i, o) = mailbox::swap(initial);
+                Some((Box::new(i), Box::new(o)))
+            }
+            _ => None,
+        }
+    }
+
     /// A fresh hand-off of this method over a ring of `depth` slots, every slot free.
+    ///
+    /// # Panics
+    /// For a method that serves only `latest` (through [`SyncMethod::mailbox`]); configs and
+    /// flags refuse it under `fifo` before anything runs.
     pub fn handoff(self, depth: usize) -> Box<dyn Handoff> {
         let depth = depth.max(1) as u64;
         match self {
@@ -51,6 +111,9 @@ impl SyncMethod {
             SyncMethod::Condvar => Box::new(condvar::Blocking::<PlMonitor<Ring>>::new(depth)),
             SyncMethod::CondvarStd => Box::new(condvar::Blocking::<StdMonitor<Ring>>::new(depth)),
             SyncMethod::Adaptive => Box::new(adaptive::AdaptiveRing::new(depth)),
+            SyncMethod::TripleBuffer => {
+                panic!("{self} hands over the latest mesh only; it has no ring")
+            }
         }
     }
 }

@@ -13,7 +13,7 @@ pub(crate) use parking_lot::{Condvar as PlCondvar, Mutex as PlMutex, MutexGuard 
 #[cfg(not(loom))]
 pub(crate) use std::hint::spin_loop;
 #[cfg(not(loom))]
-pub(crate) use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+pub(crate) use std::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, Ordering};
 #[cfg(not(loom))]
 pub(crate) use std::sync::Mutex as StdMutex;
 #[cfg(not(loom))]
@@ -22,7 +22,7 @@ use std::sync::{Condvar as StdCondvar, MutexGuard as StdInnerGuard};
 pub(crate) use std::thread::yield_now;
 
 #[cfg(loom)]
-pub(crate) use loom::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+pub(crate) use loom::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, Ordering};
 #[cfg(loom)]
 pub(crate) use loom::sync::Mutex as StdMutex;
 #[cfg(loom)]
@@ -36,6 +36,51 @@ pub(crate) use loom_parking_lot::{Condvar as PlCondvar, Mutex as PlMutex, MutexG
 #[cfg(loom)]
 pub(crate) fn spin_loop() {
     loom::thread::yield_now();
+}
+
+/// A cell whose accesses a protocol orders: std's `UnsafeCell`, or under `--cfg loom` loom's,
+/// which records every access so that an unordered pair is reported as a data race.
+pub struct Cell<T> {
+    #[cfg(not(loom))]
+    value: std::cell::UnsafeCell<T>,
+    #[cfg(loom)]
+    value: loom::cell::UnsafeCell<T>,
+}
+
+impl<T> Cell<T> {
+    /// A cell holding `value`.
+    pub fn new(value: T) -> Self {
+        Cell {
+            value: value.into(),
+        }
+    }
+
+    /// Reads the value.
+    ///
+    /// # Safety
+    /// No access that writes may happen concurrently (the caller's protocol orders them).
+    pub unsafe fn get(&self) -> &T {
+        #[cfg(not(loom))]
+        // SAFETY: the caller guarantees no concurrent write.
+        return unsafe { &*self.value.get() };
+        #[cfg(loom)]
+        // SAFETY: as above; loom records the access.
+        return self.value.with(|p| unsafe { &*p });
+    }
+
+    /// Writes the value.
+    ///
+    /// # Safety
+    /// No other access may happen concurrently (the caller's protocol gives it exclusive use).
+    #[allow(clippy::mut_from_ref)]
+    pub unsafe fn get_mut(&self) -> &mut T {
+        #[cfg(not(loom))]
+        // SAFETY: the caller guarantees exclusive use.
+        return unsafe { &mut *self.value.get() };
+        #[cfg(loom)]
+        // SAFETY: as above; loom records the access.
+        return self.value.with_mut(|p| unsafe { &mut *p });
+    }
 }
 
 /// A mutex over a `T`, whichever library's.

@@ -10,17 +10,32 @@ use plotters::style::RGBColor;
 
 const SERIAL: RGBColor = RGBColor(0x70, 0x70, 0x70);
 
+/// Method colours, in the methods' declaration order: the Okabe-Ito palette first (the paper's
+/// methods), then further colours distinct from it.
+const PALETTE: [RGBColor; 16] = [
+    RGBColor(0x00, 0x72, 0xb2),
+    RGBColor(0xd5, 0x5e, 0x00),
+    RGBColor(0x00, 0x9e, 0x73),
+    RGBColor(0xcc, 0x79, 0xa7),
+    RGBColor(0xe6, 0x9f, 0x00),
+    RGBColor(0x56, 0xb4, 0xe9),
+    RGBColor(0x11, 0x11, 0x11),
+    RGBColor(0x88, 0x22, 0x55),
+    RGBColor(0x44, 0xaa, 0x99),
+    RGBColor(0x99, 0x99, 0x33),
+    RGBColor(0x33, 0x22, 0x88),
+    RGBColor(0xaa, 0x44, 0x99),
+    RGBColor(0x66, 0x33, 0x00),
+    RGBColor(0x11, 0x77, 0x33),
+    RGBColor(0xdd, 0xcc, 0x77),
+    RGBColor(0x88, 0xcc, 0xee),
+];
+
 /// A colour per hand-off method, fixed so a method looks the same in every chart.
 fn sync_color(sync: SyncMethod) -> RGBColor {
-    match sync {
-        SyncMethod::Atomic => RGBColor(0x00, 0x72, 0xb2),
-        SyncMethod::Spin => RGBColor(0xd5, 0x5e, 0x00),
-        SyncMethod::Mutex => RGBColor(0x00, 0x9e, 0x73),
-        SyncMethod::Condvar => RGBColor(0xcc, 0x79, 0xa7),
-        SyncMethod::MutexStd => RGBColor(0xe6, 0x9f, 0x00),
-        SyncMethod::CondvarStd => RGBColor(0x56, 0xb4, 0xe9),
-        SyncMethod::Adaptive => RGBColor(0x11, 0x11, 0x11),
-    }
+    use strum::VariantArray;
+    let at = SyncMethod::VARIANTS.iter().position(|&m| m == sync);
+    PALETTE[at.unwrap_or(0) % PALETTE.len()]
 }
 
 /// The summary's frame-time points: mean, then median, p99, slowest-1% mean and max.
