@@ -39,7 +39,7 @@ fn write(dir: &Path, name: &str, text: &str) -> String {
 #[test]
 fn bad_flags_exit_2_with_one_line() {
     assert_input_error(&["run", "--mode", "tri"], &["--mode", "serial, up, dp"]);
-    assert_input_error(&["run", "--sync", "futex"], &["--sync", "condvar-std"]);
+    assert_input_error(&["run", "--sync", "futexes"], &["--sync", "futex"]);
     assert_input_error(&["run", "--normals", "x"], &["lookup, neighbors, analytic"]);
     assert_input_error(&["run", "--size", "1"], &["size", "2 to"]);
     assert_input_error(&["run", "--size", "abc"], &["--size"]);

@@ -208,7 +208,7 @@ fn within_by_mode_pairs_serial_with_every_threaded_cell() {
 #[test]
 fn bad_baselines_name_the_values_present() {
     let r = fixture();
-    let err = compare::within(&r, Dim::Sync, "futex", 5.0, Metric::Fps).unwrap_err();
+    let err = compare::within(&r, Dim::Sync, "futexes", 5.0, Metric::Fps).unwrap_err();
     assert!(matches!(err, CompareError::UnknownBaseline { .. }));
     let msg = err.to_string();
     assert!(!msg.contains('\n'));
@@ -219,7 +219,7 @@ fn bad_baselines_name_the_values_present() {
         "condvar",
         "mutex-std",
         "condvar-std",
-        "futex",
+        "futexes",
     ] {
         assert!(msg.contains(v), "{msg}");
     }

