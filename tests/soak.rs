@@ -6,7 +6,7 @@
 //! Run with `cargo test --release --test soak -- --ignored`. A run stops at its count or after
 //! `MAX_SECONDS`, whichever comes first, so that the methods that sleep on every hand-off (a
 //! VM's wake-up is about 50 µs) and `spin` on one core (a scheduler tick per hand-off) keep the
-//! whole soak within CI's budget; every run must still reach `MIN_FRAMES`.
+//! whole soak within CI's budget; every method is still soaked for at least `MIN_FRAMES`.
 
 use oceanbench::affinity;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
@@ -17,7 +17,8 @@ use std::time::Duration;
 /// Frames per run at depths 1, 2 and 3.
 const FRAMES: [u64; 3] = [1_000_000, 250_000, 250_000];
 const MAX_SECONDS: f64 = 8.0;
-/// The least any run must reach, `spin` on one core aside (it may manage far fewer).
+/// The least every method must be soaked for, `spin` on one core aside (it may manage far
+/// fewer).
 const MIN_FRAMES: u64 = 50_000;
 
 #[test]
@@ -60,34 +61,36 @@ fn a_million_frames_per_method_none_lost() {
                     stall_at_frame: None,
                 };
                 let spin_on_one_core = mode == Mode::Up && sync == SyncMethod::Spin;
-                let budget = Budget {
-                    warmup_frames: 0,
-                    min_frames: frames_wanted,
-                    min_seconds: 0.0,
-                    max_seconds: MAX_SECONDS,
-                };
-                let mut expected = 0u64;
-                let mut out_of_order = 0u64;
-                let run = frame_loop::run(&spec, &budget, |k, _| {
-                    if k != expected {
-                        out_of_order += 1;
-                    }
-                    expected = k + 1;
-                })
-                .unwrap_or_else(|e| panic!("{mode:?} {sync:?} depth {depth}: {e}"));
-                let frames = run.trial.frames.len() as u64;
-                eprintln!(
-                    "{mode:?} {sync:?} depth {depth}: {frames} frames in {:.1} s",
-                    run.trial.seconds()
-                );
                 let what = format!("{mode:?} {sync:?} depth {depth}");
-                assert_eq!(out_of_order, 0, "{what}");
-                assert_eq!(expected, frames, "{what}: every frame seen once");
-                if !spin_on_one_core {
-                    assert!(
-                        frames >= MIN_FRAMES.min(frames_wanted),
-                        "{what}: only {frames}"
-                    );
+                // A run cut short by the time cap before `MIN_FRAMES` (a machine busy with other
+                // work) is followed by fresh loops until the soak has seen that many frames.
+                let least = if spin_on_one_core {
+                    1
+                } else {
+                    MIN_FRAMES.min(frames_wanted)
+                };
+                let mut seen = 0u64;
+                while seen < least {
+                    let budget = Budget {
+                        warmup_frames: 0,
+                        min_frames: frames_wanted - seen,
+                        min_seconds: 0.0,
+                        max_seconds: MAX_SECONDS,
+                    };
+                    let mut expected = 0u64;
+                    let mut out_of_order = 0u64;
+                    let run = frame_loop::run(&spec, &budget, |k, _| {
+                        if k != expected {
+                            out_of_order += 1;
+                        }
+                        expected = k + 1;
+                    })
+                    .unwrap_or_else(|e| panic!("{what}: {e}"));
+                    let frames = run.trial.frames.len() as u64;
+                    eprintln!("{what}: {frames} frames in {:.1} s", run.trial.seconds());
+                    assert_eq!(out_of_order, 0, "{what}");
+                    assert_eq!(expected, frames, "{what}: every frame seen once");
+                    seen += frames;
                 }
             }
         }

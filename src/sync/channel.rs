@@ -1,5 +1,6 @@
-//! `crossbeam`, `std-channel` and `flume`: the ring's slots travel as tokens through two bounded
-//! channels of `depth` places, the paper's one-slot queue built from the channels engines use.
+//! `crossbeam`, `std-channel`, `flume` and `rtrb`: the ring's slots travel as tokens through two
+//! bounded channels (or rtrb's SPSC rings) of `depth` places, the paper's one-slot queue built
+//! from the queues engines use.
 //! The helper receives a free slot's token from `free`, computes into that slot and sends the
 //! frame's token on `filled`; the main thread receives it, consumes the slot and sends the token
 //! back on `free`. Only tokens move, never a mesh, so `consume` means the same as for every
@@ -76,6 +77,40 @@ impl Pipe for Flume {
     }
     fn take(&self, deadline: Instant) -> Result<u64, TimedOut> {
         self.1.recv_deadline(deadline).map_err(|_| TimedOut)
+    }
+}
+
+/// rtrb's wait-free single-producer, single-consumer ring. It never blocks, so a receive polls
+/// with crossbeam's `Backoff`: exponentially longer spins with a pause hint, then yields; it
+/// never sleeps, so a waiter costs a core (or, on one core, time slices) while it waits. Each
+/// end is `Send` but not `Sync`, so each sits behind a lock only its own side takes.
+pub struct Rtrb(
+    parking_lot::Mutex<rtrb::Producer<u64>>,
+    parking_lot::Mutex<rtrb::Consumer<u64>>,
+);
+
+impl Pipe for Rtrb {
+    fn bounded(capacity: usize) -> Self {
+        let (push, pop) = rtrb::RingBuffer::new(capacity);
+        Rtrb(parking_lot::Mutex::new(push), parking_lot::Mutex::new(pop))
+    }
+    fn put(&self, token: u64) -> bool {
+        self.0.lock().push(token).is_ok()
+    }
+    fn take(&self, deadline: Instant) -> Result<u64, TimedOut> {
+        let mut pop = self.1.lock();
+        let backoff = crossbeam_utils::Backoff::new();
+        let mut polls: u32 = 0;
+        loop {
+            if let Ok(token) = pop.pop() {
+                return Ok(token);
+            }
+            backoff.snooze();
+            polls = polls.wrapping_add(1);
+            if polls.is_multiple_of(64) && Instant::now() >= deadline {
+                return pop.pop().map_err(|_| TimedOut);
+            }
+        }
     }
 }
 

@@ -13,7 +13,6 @@ mod park;
 mod primitives;
 mod ring;
 mod slot;
-mod spsc;
 
 pub use mailbox::{MailboxIn, MailboxOut};
 pub use ring::Ring;
@@ -135,7 +134,7 @@ impl SyncMethod {
                 Box::new(channel::ChannelRing::<channel::StdChannel>::new(depth))
             }
             SyncMethod::Flume => Box::new(channel::ChannelRing::<channel::Flume>::new(depth)),
-            SyncMethod::Rtrb => Box::new(spsc::RtrbRing::new(depth)),
+            SyncMethod::Rtrb => Box::new(channel::ChannelRing::<channel::Rtrb>::new(depth)),
             SyncMethod::Futex => Box::new(futex::FutexRing::new(depth)),
             SyncMethod::Park => Box::new(park::ParkRing::new(depth)),
             SyncMethod::TripleBuffer => {
