@@ -3,8 +3,9 @@
 
 use crate::affinity;
 use crate::crosscore;
+use crate::sched;
 use crate::stats::{self, quantile};
-use crate::sync::{Free, Handoff, Policy, SyncMethod};
+use crate::sync::{Free, Handoff, MailboxOut, Policy, SyncMethod};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -27,6 +28,11 @@ pub struct LatencyRow {
     pub p99_ns: f64,
     /// Round trips timed (fewer than asked when the row's time budget ran out).
     pub samples: usize,
+    /// CPU time both threads spent per round trip (ns; each thread's CPU clock over its trips):
+    /// a method that waits by polling shows about the wall time per thread, one that sleeps
+    /// far less. Absent for the ping-pong and where the thread CPU clock is unavailable.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cpu_ns: Option<f64>,
     /// Whether both pins held.
     pub pinned: bool,
 }
@@ -41,6 +47,7 @@ impl LatencyRow {
             median_ns: quantile(&ns, 0.5),
             p99_ns: quantile(&ns, 0.99),
             samples: ns.len(),
+            cpu_ns: None,
             pinned,
         }
     }
@@ -60,15 +67,16 @@ pub fn handoff_round_trip(
         let handoff = Arc::clone(&handoff);
         std::thread::spawn(move || {
             let pin = affinity::pin_current(helper);
-            loop {
-                match handoff.wait_free(Instant::now() + timeout) {
-                    Ok(Free::Slot) => handoff.publish(),
-                    Ok(Free::Shutdown) | Err(_) => return pin.held,
-                }
+            let (cpu0, mut trips) = (sched::thread_cpu_ns(), 0u64);
+            while let Ok(Free::Slot) = handoff.wait_free(Instant::now() + timeout) {
+                handoff.publish();
+                trips += 1;
             }
+            let cpu = cpu0.zip(sched::thread_cpu_ns()).map(|(a, b)| b - a);
+            (pin.held, cpu.map(|ns| ns as f64 / trips.max(1) as f64))
         })
     };
-    let (ns, main_held) = std::thread::scope(|s| {
+    let (ns, main_cpu, main_held) = std::thread::scope(|s| {
         s.spawn(|| {
             let pin = affinity::pin_current(main);
             let mut ns = Vec::with_capacity(samples);
@@ -77,7 +85,11 @@ pub fn handoff_round_trip(
             // The first trips warm caches and the scheduler; they are not kept.
             let warmup = 16;
             let mut trip: u64 = 0;
+            let mut cpu0 = None;
             while ok && ns.len() < samples {
+                if trip == warmup {
+                    cpu0 = sched::thread_cpu_ns();
+                }
                 let t0 = Instant::now();
                 handoff.release();
                 ok = handoff.wait_published(trip + 1, t0 + timeout).is_ok();
@@ -89,14 +101,97 @@ pub fn handoff_round_trip(
                     break;
                 }
             }
-            (ns, pin.held)
+            let cpu = cpu0.zip(sched::thread_cpu_ns()).map(|(a, b)| b - a);
+            let per_trip = cpu.map(|c| c as f64 / ns.len().max(1) as f64);
+            (ns, per_trip, pin.held)
         })
         .join()
         .unwrap_or_default()
     });
     handoff.shutdown();
-    let helper_held = echo.join().unwrap_or(false);
-    LatencyRow::from_samples(method.name(), main, helper, ns, main_held && helper_held)
+    let (helper_held, helper_cpu) = echo.join().unwrap_or((false, None));
+    LatencyRow {
+        cpu_ns: main_cpu.zip(helper_cpu).map(|(m, h)| m + h),
+        ..LatencyRow::from_samples(method.name(), main, helper, ns, main_held && helper_held)
+    }
+}
+
+/// Times `samples` round trips through two `latest` mailboxes of `method`, one each way: the
+/// main thread publishes a number, the helper takes it and publishes it back, both polling
+/// with a yield. What a mailbox adds to a mesh's age when the reader looks right away.
+pub fn mailbox_round_trip(
+    method: SyncMethod,
+    main: usize,
+    helper: usize,
+    samples: usize,
+) -> Option<LatencyRow> {
+    let (mut to_helper, mut from_main) = method.mailbox(&0u64)?;
+    let (mut to_main, mut from_helper) = method.mailbox(&0u64)?;
+    let timeout = Duration::from_secs(10);
+    let take = |out: &mut dyn MailboxOut<u64>, want: u64, deadline: Instant| loop {
+        if out.update() && *out.buffer() >= want {
+            return *out.buffer();
+        }
+        if Instant::now() >= deadline {
+            return u64::MAX;
+        }
+        std::thread::yield_now();
+    };
+    let echo = std::thread::spawn(move || {
+        let pin = affinity::pin_current(helper);
+        let (cpu0, mut trips) = (sched::thread_cpu_ns(), 0u64);
+        loop {
+            let v = take(&mut *from_main, 1, Instant::now() + timeout);
+            if v == u64::MAX {
+                break;
+            }
+            *to_main.buffer() = v;
+            to_main.publish();
+            trips += 1;
+        }
+        let cpu = cpu0.zip(sched::thread_cpu_ns()).map(|(a, b)| b - a);
+        (pin.held, cpu.map(|ns| ns as f64 / trips.max(1) as f64))
+    });
+    let (ns, main_cpu, main_held) = std::thread::scope(|s| {
+        s.spawn(|| {
+            let pin = affinity::pin_current(main);
+            let warmup = 16;
+            let mut ns = Vec::with_capacity(samples);
+            let mut cpu0 = None;
+            let start = Instant::now();
+            for trip in 1.. {
+                if trip == warmup + 1 {
+                    cpu0 = sched::thread_cpu_ns();
+                }
+                let t0 = Instant::now();
+                *to_helper.buffer() = trip;
+                to_helper.publish();
+                if take(&mut *from_helper, trip, t0 + timeout) != trip {
+                    break;
+                }
+                if trip > warmup {
+                    ns.push(t0.elapsed().as_nanos() as f64);
+                }
+                if ns.len() >= samples || (start.elapsed() > ROW_BUDGET && !ns.is_empty()) {
+                    break;
+                }
+            }
+            let cpu = cpu0
+                .zip(sched::thread_cpu_ns())
+                .map(|(a, b)| (b - a) as f64 / ns.len().max(1) as f64);
+            *to_helper.buffer() = u64::MAX;
+            to_helper.publish();
+            (ns, cpu, pin.held)
+        })
+        .join()
+        .unwrap_or_default()
+    });
+    let (helper_held, helper_cpu) = echo.join().unwrap_or((false, None));
+    let name = format!("{} latest", method.name());
+    Some(LatencyRow {
+        cpu_ns: main_cpu.zip(helper_cpu).map(|(m, h)| m + h),
+        ..LatencyRow::from_samples(&name, main, helper, ns, main_held && helper_held)
+    })
 }
 
 /// The raw floor: one cache line bounced between the two cores, each trip timed.
@@ -119,6 +214,9 @@ pub fn table(a: usize, b: usize, samples: usize) -> Vec<LatencyRow> {
         for method in SyncMethod::of_policy(Policy::Fifo) {
             rows.push(handoff_round_trip(method, main, helper, samples));
         }
+        for method in SyncMethod::of_policy(Policy::Latest) {
+            rows.extend(mailbox_round_trip(method, main, helper, samples));
+        }
     }
     rows
 }
@@ -126,17 +224,19 @@ pub fn table(a: usize, b: usize, samples: usize) -> Vec<LatencyRow> {
 /// The rows as an aligned text table.
 pub fn to_text(rows: &[LatencyRow]) -> String {
     let mut out = format!(
-        "{:<12} {:>5} {:>6} {:>12} {:>12} {:>8}\n",
-        "method", "main", "helper", "median ns", "p99 ns", "samples"
+        "{:<20} {:>5} {:>6} {:>12} {:>12} {:>12} {:>8}\n",
+        "method", "main", "helper", "median ns", "p99 ns", "CPU ns", "samples"
     );
     for r in rows {
+        let cpu = r.cpu_ns.map_or("–".to_string(), |c| format!("{c:.0}"));
         out.push_str(&format!(
-            "{:<12} {:>5} {:>6} {:>12.0} {:>12.0} {:>8}{}\n",
+            "{:<20} {:>5} {:>6} {:>12.0} {:>12.0} {:>12} {:>8}{}\n",
             r.method,
             r.main_core,
             r.helper_core,
             r.median_ns,
             r.p99_ns,
+            cpu,
             r.samples,
             if r.pinned { "" } else { "  (pin did not hold)" }
         ));

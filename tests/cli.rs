@@ -325,8 +325,9 @@ fn latency_lists_the_floor_and_every_method_on_each_placement() {
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let two_cores = oceanbench::affinity::allowed_cores().len() > 1;
     use oceanbench::sync::{Policy, SyncMethod};
-    let methods: Vec<&str> = SyncMethod::of_policy(Policy::Fifo)
-        .map(SyncMethod::name)
+    let methods: Vec<String> = SyncMethod::of_policy(Policy::Fifo)
+        .map(|m| m.name().to_string())
+        .chain(SyncMethod::of_policy(Policy::Latest).map(|m| format!("{m} latest")))
         .collect();
     let expected = if two_cores {
         2 * methods.len() + 1
@@ -337,7 +338,7 @@ fn latency_lists_the_floor_and_every_method_on_each_placement() {
     for method in methods {
         let n = rows.iter().filter(|r| r["method"] == method).count();
         assert_eq!(n, if two_cores { 2 } else { 1 }, "{method}");
-        assert!(text.contains(method));
+        assert!(text.contains(&method));
     }
     if two_cores {
         assert!(text.contains("ping-pong"));
@@ -349,6 +350,9 @@ fn latency_lists_the_floor_and_every_method_on_each_placement() {
         );
         assert!(median > 0.0 && p99 >= median, "{r}");
         assert!(r["samples"].as_u64().unwrap() > 0);
+        if r["method"] != "ping-pong" && cfg!(target_os = "linux") {
+            assert!(r["cpu_ns"].as_f64().unwrap() > 0.0, "{r}");
+        }
     }
     assert_input_error(&["latency", "--samples", "0"], &["--samples"]);
 }
