@@ -179,6 +179,74 @@ impl Mailbox {
     }
 }
 
+/// Frame-time metrics under the names CapFrameX gives them (its
+/// `FrametimeStatisticProvider`), each computed from every measured frame of a cell. The
+/// "1 % low" of other tools is one of three different things; each has its own field here.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FrameMetrics {
+    /// P1: the 1st percentile of per-frame FPS, i.e. 1000 ÷ the 99th percentile frame time
+    /// (nearest rank).
+    pub p1_fps: f64,
+    /// 1 % low average: 1000 ÷ the mean of the frame times at or above the 99th percentile.
+    pub one_percent_low_average_fps: f64,
+    /// 1 % low integral (MSI Afterburner's): frame times sorted slowest first are summed until
+    /// they reach 1 % of the total time; 1000 ÷ the frame time that gets there.
+    pub one_percent_low_integral_fps: f64,
+    /// P0.1: the same as P1 at 0.1 %.
+    pub p0_1_fps: f64,
+    /// 0.1 % low average.
+    pub point_one_percent_low_average_fps: f64,
+    /// 0.1 % low integral.
+    pub point_one_percent_low_integral_fps: f64,
+    /// Stutter: the share of the total time spent in frames longer than 2.5 × the average
+    /// frame time (CapFrameX's `GetStutteringTimePercentage`, factor 2.5).
+    pub stutter_time_percent: f64,
+}
+
+/// CapFrameX's default stuttering factor.
+pub const STUTTER_FACTOR: f64 = 2.5;
+
+impl FrameMetrics {
+    /// The metrics of frame times `ms` (milliseconds, in any order); `None` when empty.
+    pub fn of(ms: &[f64]) -> Option<FrameMetrics> {
+        if ms.is_empty() {
+            return None;
+        }
+        let sorted = stats::sorted(ms);
+        let total: f64 = sorted.iter().sum();
+        let percentile = |share: f64| quantile(&sorted, 1.0 - share);
+        let low_average = |share: f64| {
+            let at = percentile(share);
+            let slow: Vec<f64> = sorted.iter().copied().filter(|&t| t >= at).collect();
+            1000.0 / stats::mean(&slow)
+        };
+        let low_integral = |share: f64| {
+            let mut sum = 0.0;
+            for &t in sorted.iter().rev() {
+                sum += t;
+                if sum >= total * share {
+                    return 1000.0 / t;
+                }
+            }
+            1000.0 / sorted[0]
+        };
+        let average = total / sorted.len() as f64;
+        let stutter: f64 = sorted
+            .iter()
+            .filter(|&&t| t > STUTTER_FACTOR * average)
+            .sum();
+        Some(FrameMetrics {
+            p1_fps: 1000.0 / percentile(0.01),
+            one_percent_low_average_fps: low_average(0.01),
+            one_percent_low_integral_fps: low_integral(0.01),
+            p0_1_fps: 1000.0 / percentile(0.001),
+            point_one_percent_low_average_fps: low_average(0.001),
+            point_one_percent_low_integral_fps: low_integral(0.001),
+            stutter_time_percent: 100.0 * stutter / total,
+        })
+    }
+}
+
 /// Spread of the per-trial FPS.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Spread {
@@ -210,8 +278,13 @@ pub struct Summary {
     /// The frame-time distribution at [`QUANTILES`] (absent in results from before it existed).
     #[serde(default)]
     pub frame_time_quantiles: Vec<Quantile>,
-    /// 1% low: frames ÷ time of the slowest 1% of frames (at least one frame).
+    /// 1% low: frames ÷ time of the slowest 1% of frames (at least one frame), the headline;
+    /// see [`FrameMetrics`] for the figures other tools call "1 % low".
     pub one_percent_low_fps: f64,
+    /// P1, 1 % low average and integral, their 0.1 % versions, and stutter (absent in results
+    /// from before they were recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frame_metrics: Option<FrameMetrics>,
     /// Mean per-frame breakdown.
     pub breakdown: Breakdown,
     /// The consumed meshes' age (absent in results from before it was recorded).
@@ -297,6 +370,7 @@ impl Summary {
                 })
                 .collect(),
             one_percent_low_fps: slowest as f64 * 1e3 / slow_ms,
+            frame_metrics: FrameMetrics::of(&times),
             breakdown: Breakdown {
                 workload_ms: part(|r| r.workload_ns),
                 wait_ms: part(|r| r.wait_ns),

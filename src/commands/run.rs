@@ -77,7 +77,7 @@ fn print_cells(results: &Results) {
         println!("{}", cell.key.label());
         match &cell.summary {
             Some(s) => println!(
-                "  {:.1} FPS (trials {}; cv {:.1}%), frame median {:.3} ms, p99 {:.3} ms, 1% low {:.1} FPS\n  per frame: workload {:.3} ms, wait {:.3} ms, copy {:.3} ms, step {:.3} ms; pinned: {}",
+                "  {:.1} FPS (trials {}; cv {:.1}%), frame median {:.3} ms, p99 {:.3} ms, 1% low (slowest 1% of frames) {:.1} FPS\n  per frame: workload {:.3} ms, wait {:.3} ms, copy {:.3} ms, step {:.3} ms; pinned: {}",
                 s.fps,
                 s.fps_trials
                     .iter()
@@ -95,6 +95,16 @@ fn print_cells(results: &Results) {
                 cell.pinned
             ),
             None => println!("  failed: {}", cell.error.as_deref().unwrap_or("no frames")),
+        }
+        if let Some(m) = cell.summary.as_ref().and_then(|s| s.frame_metrics.as_ref()) {
+            println!(
+                "  frame-time metrics: P1 {:.1} FPS, 1% low average {:.1}, 1% low integral {:.1}; P0.1 {:.1}; stutter {:.2}% of the time",
+                m.p1_fps,
+                m.one_percent_low_average_fps,
+                m.one_percent_low_integral_fps,
+                m.p0_1_fps,
+                m.stutter_time_percent
+            );
         }
         if let Some(s) = &cell.summary {
             if let (Some(m), Some(l)) = (&s.mailbox, &s.latency) {

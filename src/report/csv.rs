@@ -23,6 +23,13 @@ struct CellRow<'a> {
     frame_ms_p99: Option<f64>,
     frame_ms_max: Option<f64>,
     one_percent_low_fps: Option<f64>,
+    p1_fps: Option<f64>,
+    one_percent_low_average_fps: Option<f64>,
+    one_percent_low_integral_fps: Option<f64>,
+    p0_1_fps: Option<f64>,
+    point_one_percent_low_average_fps: Option<f64>,
+    point_one_percent_low_integral_fps: Option<f64>,
+    stutter_time_percent: Option<f64>,
     workload_ms: Option<f64>,
     wait_ms: Option<f64>,
     wait_cpu_ms: Option<f64>,
@@ -62,6 +69,7 @@ impl<'a> CellRow<'a> {
         let (noise, cal) = (cell.noise.as_ref(), cell.calibration.as_ref());
         let latency = s.and_then(|s| s.latency.as_ref());
         let mailbox = s.and_then(|s| s.mailbox.as_ref());
+        let metrics = s.and_then(|s| s.frame_metrics.as_ref());
         let stat = |f: fn(&crate::measure::Summary) -> f64| s.map(f);
         CellRow {
             key: &cell.key,
@@ -75,6 +83,14 @@ impl<'a> CellRow<'a> {
             frame_ms_p99: stat(|s| s.frame_time_ms.p99),
             frame_ms_max: stat(|s| s.frame_time_ms.max),
             one_percent_low_fps: stat(|s| s.one_percent_low_fps),
+            p1_fps: metrics.map(|m| m.p1_fps),
+            one_percent_low_average_fps: metrics.map(|m| m.one_percent_low_average_fps),
+            one_percent_low_integral_fps: metrics.map(|m| m.one_percent_low_integral_fps),
+            p0_1_fps: metrics.map(|m| m.p0_1_fps),
+            point_one_percent_low_average_fps: metrics.map(|m| m.point_one_percent_low_average_fps),
+            point_one_percent_low_integral_fps: metrics
+                .map(|m| m.point_one_percent_low_integral_fps),
+            stutter_time_percent: metrics.map(|m| m.stutter_time_percent),
             workload_ms: stat(|s| s.breakdown.workload_ms),
             wait_ms: stat(|s| s.breakdown.wait_ms),
             wait_cpu_ms: stat(|s| s.breakdown.wait_cpu_ms),
