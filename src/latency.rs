@@ -22,9 +22,13 @@ pub struct LatencyRow {
     pub main_core: usize,
     /// Helper's core (equal to `main_core` on one core).
     pub helper_core: usize,
-    /// Median round trip (ns).
+    /// Median round trip (ns) over batches of round trips timed with one clock read per batch:
+    /// the central figure, free of the clock's own cost (absent in files from before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub batched_ns: Option<f64>,
+    /// Median round trip (ns), each trip timed on its own (clock reads included).
     pub median_ns: f64,
-    /// 99th percentile round trip (ns).
+    /// 99th percentile round trip (ns), each trip timed on its own.
     pub p99_ns: f64,
     /// Round trips timed (fewer than asked when the row's time budget ran out).
     pub samples: usize,
@@ -44,6 +48,7 @@ impl LatencyRow {
             method: method.to_string(),
             main_core: main,
             helper_core: helper,
+            batched_ns: None,
             median_ns: quantile(&ns, 0.5),
             p99_ns: quantile(&ns, 0.99),
             samples: ns.len(),
@@ -51,6 +56,103 @@ impl LatencyRow {
             pinned,
         }
     }
+}
+
+/// Round trips per batch in the batched timing.
+pub const BATCH: u64 = 64;
+
+/// One side's timing of a row's round trips.
+#[derive(Default)]
+struct Timed {
+    /// Each trip timed on its own (ns).
+    per_trip: Vec<f64>,
+    /// Each batch's time ÷ its trips (ns).
+    batched: Vec<f64>,
+    /// The thread's CPU time per trip over both phases (ns).
+    cpu_ns: Option<f64>,
+}
+
+impl Timed {
+    /// The row, with the other side's CPU time per trip added to this side's.
+    fn row(
+        self,
+        name: &str,
+        cores: (usize, usize),
+        other_cpu: Option<f64>,
+        pinned: bool,
+    ) -> LatencyRow {
+        let batched = stats::sorted(&self.batched);
+        LatencyRow {
+            batched_ns: (!batched.is_empty()).then(|| quantile(&batched, 0.5)),
+            cpu_ns: self.cpu_ns.zip(other_cpu).map(|(a, b)| a + b),
+            ..LatencyRow::from_samples(name, cores.0, cores.1, self.per_trip, pinned)
+        }
+    }
+}
+
+/// Runs `trip(i, deadline)` (round trip i, from 1; `false` when it failed) for a warm-up, then
+/// `samples` trips timed one by one (for the quantiles), then about as many in batches of
+/// [`BATCH`] with one clock read per batch (for the median); each phase within half the row's
+/// budget.
+fn time_trips(samples: usize, mut trip: impl FnMut(u64, Instant) -> bool) -> Timed {
+    let timeout = Duration::from_secs(10);
+    let mut t = Timed::default();
+    let mut i = 0u64;
+    let mut next = |deadline: Instant| {
+        i += 1;
+        trip(i, deadline)
+    };
+    // The first trips warm caches and the scheduler; they are not kept.
+    for _ in 0..16 {
+        if !next(Instant::now() + timeout) {
+            return t;
+        }
+    }
+    let cpu0 = sched::thread_cpu_ns();
+    let mut trips = 0u64;
+    let start = Instant::now();
+    while t.per_trip.len() < samples {
+        let t0 = Instant::now();
+        if !next(t0 + timeout) {
+            return t;
+        }
+        t.per_trip.push(t0.elapsed().as_nanos() as f64);
+        trips += 1;
+        if start.elapsed() > ROW_BUDGET / 2 {
+            break;
+        }
+    }
+    let start = Instant::now();
+    let batches = (samples as u64).div_ceil(BATCH).max(1);
+    for _ in 0..batches {
+        let t0 = Instant::now();
+        for _ in 0..BATCH {
+            if !next(t0 + timeout) {
+                return t;
+            }
+        }
+        t.batched
+            .push(t0.elapsed().as_nanos() as f64 / BATCH as f64);
+        trips += BATCH;
+        if start.elapsed() > ROW_BUDGET / 2 {
+            break;
+        }
+    }
+    t.cpu_ns = cpu0
+        .zip(sched::thread_cpu_ns())
+        .map(|(a, b)| (b - a) as f64 / trips.max(1) as f64);
+    t
+}
+
+/// What one clock read costs on this machine (ns): `Instant::now()` called in a tight loop.
+pub fn clock_read_ns() -> f64 {
+    let reads = 200_000u32;
+    let start = Instant::now();
+    let mut last = start;
+    for _ in 0..reads {
+        last = std::hint::black_box(Instant::now());
+    }
+    (last - start).as_nanos() as f64 / f64::from(reads)
 }
 
 /// Times `samples` hand-off round trips: the main thread releases the slot, the helper sees
@@ -76,44 +178,29 @@ pub fn handoff_round_trip(
             (pin.held, cpu.map(|ns| ns as f64 / trips.max(1) as f64))
         })
     };
-    let (ns, main_cpu, main_held) = std::thread::scope(|s| {
+    let (timed, main_held) = std::thread::scope(|s| {
         s.spawn(|| {
             let pin = affinity::pin_current(main);
-            let mut ns = Vec::with_capacity(samples);
-            let start = Instant::now();
-            let mut ok = handoff.wait_published(0, start + timeout).is_ok();
-            // The first trips warm caches and the scheduler; they are not kept.
-            let warmup = 16;
-            let mut trip: u64 = 0;
-            let mut cpu0 = None;
-            while ok && ns.len() < samples {
-                if trip == warmup {
-                    cpu0 = sched::thread_cpu_ns();
-                }
-                let t0 = Instant::now();
-                handoff.release();
-                ok = handoff.wait_published(trip + 1, t0 + timeout).is_ok();
-                if trip >= warmup {
-                    ns.push(t0.elapsed().as_nanos() as f64);
-                }
-                trip += 1;
-                if start.elapsed() > ROW_BUDGET && !ns.is_empty() {
-                    break;
-                }
+            let mut timed = Timed::default();
+            if handoff.wait_published(0, Instant::now() + timeout).is_ok() {
+                timed = time_trips(samples, |i, deadline| {
+                    handoff.release();
+                    handoff.wait_published(i, deadline).is_ok()
+                });
             }
-            let cpu = cpu0.zip(sched::thread_cpu_ns()).map(|(a, b)| b - a);
-            let per_trip = cpu.map(|c| c as f64 / ns.len().max(1) as f64);
-            (ns, per_trip, pin.held)
+            (timed, pin.held)
         })
         .join()
         .unwrap_or_default()
     });
     handoff.shutdown();
     let (helper_held, helper_cpu) = echo.join().unwrap_or((false, None));
-    LatencyRow {
-        cpu_ns: main_cpu.zip(helper_cpu).map(|(m, h)| m + h),
-        ..LatencyRow::from_samples(method.name(), main, helper, ns, main_held && helper_held)
-    }
+    timed.row(
+        method.name(),
+        (main, helper),
+        helper_cpu,
+        main_held && helper_held,
+    )
 }
 
 /// Times `samples` round trips through two `latest` mailboxes of `method`, one each way: the
@@ -152,52 +239,41 @@ pub fn mailbox_round_trip(
         let cpu = cpu0.zip(sched::thread_cpu_ns()).map(|(a, b)| b - a);
         (pin.held, cpu.map(|ns| ns as f64 / trips.max(1) as f64))
     });
-    let (ns, main_cpu, main_held) = std::thread::scope(|s| {
+    let (timed, main_held) = std::thread::scope(|s| {
         s.spawn(|| {
             let pin = affinity::pin_current(main);
-            let warmup = 16;
-            let mut ns = Vec::with_capacity(samples);
-            let mut cpu0 = None;
-            let start = Instant::now();
-            for trip in 1.. {
-                if trip == warmup + 1 {
-                    cpu0 = sched::thread_cpu_ns();
-                }
-                let t0 = Instant::now();
-                *to_helper.buffer() = trip;
+            let timed = time_trips(samples, |i, deadline| {
+                *to_helper.buffer() = i;
                 to_helper.publish();
-                if take(&mut *from_helper, trip, t0 + timeout) != trip {
-                    break;
-                }
-                if trip > warmup {
-                    ns.push(t0.elapsed().as_nanos() as f64);
-                }
-                if ns.len() >= samples || (start.elapsed() > ROW_BUDGET && !ns.is_empty()) {
-                    break;
-                }
-            }
-            let cpu = cpu0
-                .zip(sched::thread_cpu_ns())
-                .map(|(a, b)| (b - a) as f64 / ns.len().max(1) as f64);
+                take(&mut *from_helper, i, deadline) == i
+            });
             *to_helper.buffer() = u64::MAX;
             to_helper.publish();
-            (ns, cpu, pin.held)
+            (timed, pin.held)
         })
         .join()
         .unwrap_or_default()
     });
     let (helper_held, helper_cpu) = echo.join().unwrap_or((false, None));
     let name = format!("{} latest", method.name());
-    Some(LatencyRow {
-        cpu_ns: main_cpu.zip(helper_cpu).map(|(m, h)| m + h),
-        ..LatencyRow::from_samples(&name, main, helper, ns, main_held && helper_held)
-    })
+    Some(timed.row(&name, (main, helper), helper_cpu, main_held && helper_held))
 }
 
-/// The raw floor: one cache line bounced between the two cores, each trip timed.
+/// The raw floor: one cache line bounced between the two cores, in batches (the median) and
+/// each trip timed (the quantiles).
 pub fn ping_pong(main: usize, helper: usize, samples: usize) -> LatencyRow {
     let trips = crosscore::round_trip_samples(main, helper, samples);
-    LatencyRow::from_samples("ping-pong", main, helper, trips.ns, trips.pinned)
+    let batched = crosscore::round_trip(main, helper, (samples / 200).max(10));
+    LatencyRow {
+        batched_ns: Some(batched.median_ns),
+        ..LatencyRow::from_samples(
+            "ping-pong",
+            main,
+            helper,
+            trips.ns,
+            trips.pinned && batched.pinned,
+        )
+    }
 }
 
 /// Every method on one core (`a`,`a`) and across two (`a`,`b`), each placement led by its floor.
@@ -221,22 +297,43 @@ pub fn table(a: usize, b: usize, samples: usize) -> Vec<LatencyRow> {
     rows
 }
 
-/// The rows as an aligned text table.
+/// The rows as an aligned text table: the batched median and its ratio to the same placement's
+/// batched floor, the per-trip median and p99, and the CPU time per trip.
 pub fn to_text(rows: &[LatencyRow]) -> String {
     let mut out = format!(
-        "{:<20} {:>5} {:>6} {:>12} {:>12} {:>12} {:>8}\n",
-        "method", "main", "helper", "median ns", "p99 ns", "CPU ns", "samples"
+        "{:<20} {:>5} {:>6} {:>11} {:>8} {:>11} {:>11} {:>11} {:>8}\n",
+        "method",
+        "main",
+        "helper",
+        "batched ns",
+        "x floor",
+        "median ns",
+        "p99 ns",
+        "CPU ns",
+        "samples"
     );
+    let floor = |r: &LatencyRow| {
+        rows.iter()
+            .find(|f| {
+                f.method == "ping-pong"
+                    && (f.main_core, f.helper_core) == (r.main_core, r.helper_core)
+            })
+            .and_then(|f| f.batched_ns)
+    };
+    let or_dash =
+        |v: Option<f64>, digits: usize| v.map_or("–".to_string(), |v| format!("{v:.digits$}"));
     for r in rows {
-        let cpu = r.cpu_ns.map_or("–".to_string(), |c| format!("{c:.0}"));
+        let ratio = r.batched_ns.zip(floor(r)).map(|(b, f)| b / f);
         out.push_str(&format!(
-            "{:<20} {:>5} {:>6} {:>12.0} {:>12.0} {:>12} {:>8}{}\n",
+            "{:<20} {:>5} {:>6} {:>11} {:>8} {:>11.0} {:>11.0} {:>11} {:>8}{}\n",
             r.method,
             r.main_core,
             r.helper_core,
+            or_dash(r.batched_ns, 0),
+            or_dash(ratio, 2),
             r.median_ns,
             r.p99_ns,
-            cpu,
+            or_dash(r.cpu_ns, 0),
             r.samples,
             if r.pinned { "" } else { "  (pin did not hold)" }
         ));

@@ -16,6 +16,12 @@ pub(super) fn latency(args: LatencyArgs) -> Result<(), CliError> {
     let [a, b] = chosen_cores(args.cores.as_deref())?;
     let rows = crate::latency::table(a, b, args.samples);
     print!("{}", crate::latency::to_text(&rows));
+    println!(
+        "(batched: one clock read per {} round trips, the central figure; median and p99: each trip timed, \
+         which adds about two clock reads of {:.0} ns each)",
+        crate::latency::BATCH,
+        crate::latency::clock_read_ns()
+    );
     if let Some(path) = &args.json {
         let text = serde_json::to_string_pretty(&rows).map_err(anyhow::Error::from)?;
         report::json::write_atomic(path, text.as_bytes())
