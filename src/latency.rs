@@ -58,6 +58,23 @@ impl LatencyRow {
     }
 }
 
+/// The far side of a row: a thread pinned to `core` that runs `trip` until it returns `false`,
+/// then reports whether its pin held and its CPU time per trip.
+fn echo(
+    core: usize,
+    mut trip: impl FnMut() -> bool + Send + 'static,
+) -> std::thread::JoinHandle<(bool, Option<f64>)> {
+    std::thread::spawn(move || {
+        let pin = affinity::pin_current(core);
+        let (cpu0, mut trips) = (sched::thread_cpu_ns(), 0u64);
+        while trip() {
+            trips += 1;
+        }
+        let cpu = cpu0.zip(sched::thread_cpu_ns()).map(|(a, b)| b - a);
+        (pin.held, cpu.map(|ns| ns as f64 / trips.max(1) as f64))
+    })
+}
+
 /// Round trips per batch in the batched timing.
 pub const BATCH: u64 = 64;
 
@@ -165,17 +182,15 @@ pub fn handoff_round_trip(
 ) -> LatencyRow {
     let handoff: Arc<dyn Handoff> = Arc::from(method.handoff(1));
     let timeout = Duration::from_secs(10);
-    let echo = {
+    let far = {
         let handoff = Arc::clone(&handoff);
-        std::thread::spawn(move || {
-            let pin = affinity::pin_current(helper);
-            let (cpu0, mut trips) = (sched::thread_cpu_ns(), 0u64);
-            while let Ok(Free::Slot) = handoff.wait_free(Instant::now() + timeout) {
+        echo(helper, move || {
+            let free = handoff.wait_free(Instant::now() + timeout);
+            let go = free == Ok(Free::Slot);
+            if go {
                 handoff.publish();
-                trips += 1;
             }
-            let cpu = cpu0.zip(sched::thread_cpu_ns()).map(|(a, b)| b - a);
-            (pin.held, cpu.map(|ns| ns as f64 / trips.max(1) as f64))
+            go
         })
     };
     let (timed, main_held) = std::thread::scope(|s| {
@@ -194,7 +209,7 @@ pub fn handoff_round_trip(
         .unwrap_or_default()
     });
     handoff.shutdown();
-    let (helper_held, helper_cpu) = echo.join().unwrap_or((false, None));
+    let (helper_held, helper_cpu) = far.join().unwrap_or((false, None));
     timed.row(
         method.name(),
         (main, helper),
@@ -224,20 +239,13 @@ pub fn mailbox_round_trip(
         }
         std::thread::yield_now();
     };
-    let echo = std::thread::spawn(move || {
-        let pin = affinity::pin_current(helper);
-        let (cpu0, mut trips) = (sched::thread_cpu_ns(), 0u64);
-        loop {
-            let v = take(&mut *from_main, 1, Instant::now() + timeout);
-            if v == u64::MAX {
-                break;
-            }
+    let far = echo(helper, move || {
+        let v = take(&mut *from_main, 1, Instant::now() + timeout);
+        if v != u64::MAX {
             *to_main.buffer() = v;
             to_main.publish();
-            trips += 1;
         }
-        let cpu = cpu0.zip(sched::thread_cpu_ns()).map(|(a, b)| b - a);
-        (pin.held, cpu.map(|ns| ns as f64 / trips.max(1) as f64))
+        v != u64::MAX
     });
     let (timed, main_held) = std::thread::scope(|s| {
         s.spawn(|| {
@@ -254,7 +262,7 @@ pub fn mailbox_round_trip(
         .join()
         .unwrap_or_default()
     });
-    let (helper_held, helper_cpu) = echo.join().unwrap_or((false, None));
+    let (helper_held, helper_cpu) = far.join().unwrap_or((false, None));
     let name = format!("{} latest", method.name());
     Some(timed.row(&name, (main, helper), helper_cpu, main_held && helper_held))
 }
