@@ -1,7 +1,8 @@
 //! The fast kernel against the reference kernel and the f64 oracle, on every instruction set the
-//! CPU offers, and its stencil `neighbors` normals against the reference neighbour list.
+//! CPU offers and on both its paths (fused and per-wave, which must agree bit for bit), and its
+//! stencil `neighbors` normals against the reference neighbour list.
 
-use oceanbench::ocean::fast::{FastKernel, Isa, StencilNormals};
+use oceanbench::ocean::fast::{FastKernel, Isa, Path, StencilNormals};
 use oceanbench::ocean::normals::FaceNormals;
 use oceanbench::ocean::{reference, Grid, Kernel, Mesh, NormalMethod, Ocean, Wave, WaveSet};
 use proptest::prelude::*;
@@ -35,53 +36,95 @@ fn max_diff(a: &[f32], b: &[f32]) -> f32 {
         .fold(0.0, f32::max)
 }
 
-/// Checks the fast kernel on every ISA against the oracle (within the tolerance, or at worst
-/// the reference's own error), and heights-only against heights with normals.
+/// Whether every enabled steepness is a half-integer with 2k − 2 <= 12, the sets the fused
+/// path takes.
+fn fused_covers(waves: &WaveSet) -> bool {
+    waves
+        .enabled()
+        .all(|w| (2.0 * w.steepness).fract() == 0.0 && w.steepness <= 7.0)
+}
+
+/// The two paths of the fast kernel on `isa`: the one `with_isa` picks (fused where it covers
+/// the waves, which this checks) and per-wave.
+fn paths(waves: &WaveSet, isa: Isa) -> [FastKernel; 2] {
+    let fast = FastKernel::with_isa(waves, isa);
+    let want = if fused_covers(waves) {
+        Path::Fused
+    } else {
+        Path::PerWave
+    };
+    assert_eq!(fast.path(), want, "{waves:?}");
+    [fast.clone(), fast.per_wave()]
+}
+
+/// Checks both fast paths on every ISA against the oracle (within the tolerance, or at worst
+/// the reference's own error), heights-only against heights with normals, and the paths
+/// against each other (within the tolerance).
 fn check(waves: &WaveSet, grid: Grid, t: f32) {
     let mut m = Mesh::new(grid);
     reference::step(waves, &mut m, t, true);
     let reference = oracle_errors(waves, &m, t);
     let tol = tolerance(waves);
     for isa in Isa::available() {
-        let mut fast = FastKernel::with_isa(waves, isa);
-        // Twice, so the cached tables are exercised as well as freshly built ones.
-        fast.step(&mut m, t + 1.0, true);
-        fast.step(&mut m, t, true);
-        let got = oracle_errors(waves, &m, t);
-        for k in 0..4 {
+        let mut meshes = Vec::new();
+        for mut fast in paths(waves, isa) {
+            let path = fast.path();
+            // Twice, so the cached tables are exercised as well as freshly built ones.
+            fast.step(&mut m, t + 1.0, true);
+            fast.step(&mut m, t, true);
+            let got = oracle_errors(waves, &m, t);
+            for k in 0..4 {
+                assert!(
+                    got[k] <= tol[k].max(reference[k]),
+                    "{isa:?} {path:?} component {k}: fast error {:e} > tol {:e} (reference \
+                     {:e}), t={t}, {grid:?}, {waves:?}",
+                    got[k],
+                    tol[k],
+                    reference[k]
+                );
+            }
+            let mut heights_only = Mesh::new(grid);
+            fast.step(&mut heights_only, t, false);
+            assert!(heights_only.nz.iter().all(|&z| z == 1.0), "normals touched");
+            let dz = max_diff(&heights_only.z, &m.z);
+            assert!(dz <= 1e-6, "{isa:?} {path:?}: heights-only differs by {dz}");
+            meshes.push(m.clone());
+        }
+        let [a, b] = [&meshes[0], &meshes[1]];
+        for (k, (x, y)) in [(&a.z, &b.z), (&a.nx, &b.nx), (&a.ny, &b.ny), (&a.nz, &b.nz)]
+            .into_iter()
+            .enumerate()
+        {
+            let d = max_diff(x, y) as f64;
             assert!(
-                got[k] <= tol[k].max(reference[k]),
-                "{isa:?} component {k}: fast error {:e} > tol {:e} (reference {:e}), t={t}, \
-                 {grid:?}, {waves:?}",
-                got[k],
-                tol[k],
-                reference[k]
+                d <= tol[k],
+                "{isa:?}: paths differ by {d:e} in component {k}"
             );
         }
-        let mut heights_only = Mesh::new(grid);
-        fast.step(&mut heights_only, t, false);
-        assert!(heights_only.nz.iter().all(|&z| z == 1.0), "normals touched");
-        let dz = max_diff(&heights_only.z, &m.z);
-        assert!(dz <= 1e-6, "{isa:?}: heights-only differs by {dz}");
     }
 }
 
 fn steepness() -> impl Strategy<Value = f32> {
-    prop_oneof![
-        Just(1.0f32),
-        (2u32..=16).prop_map(|m| m as f32 / 2.0),
-        1.0f32..8.0,
-    ]
+    prop_oneof![Just(1.0f32), half_integer_steepness(), 1.0f32..8.0,]
+}
+
+/// k = 1, 1.5, …, 8: exponents 2k − 2 of 0 to 14, the fused path's 0..=12 and two above it.
+fn half_integer_steepness() -> impl Strategy<Value = f32> {
+    (2u32..=16).prop_map(|m| m as f32 / 2.0)
 }
 
 fn wave() -> impl Strategy<Value = Wave> {
+    wave_with(steepness())
+}
+
+fn wave_with(steepness: impl Strategy<Value = f32>) -> impl Strategy<Value = Wave> {
     (
         0.01f32..2.0,
         2.0f32..100.0,
         0.0f32..20.0,
         0.0f32..std::f32::consts::TAU,
         0.5f32..2.0,
-        steepness(),
+        steepness,
         prop::bool::weighted(0.8),
     )
         .prop_map(
@@ -112,6 +155,46 @@ proptest! {
     ) {
         let waves = WaveSet::new(waves).unwrap();
         check(&waves, Grid::new(n, spacing).unwrap(), t);
+    }
+
+    /// Half-integer sets of up to 16 waves (the most a set holds), which the fused path takes
+    /// unless an exponent is above 12.
+    #[test]
+    fn fused_matches_oracle_and_per_wave(
+        waves in prop::collection::vec(wave_with(half_integer_steepness()), 1..=16),
+        n in 2usize..90,
+        spacing in 0.25f32..3.0,
+        t in time(),
+    ) {
+        let waves = WaveSet::new(waves).unwrap();
+        check(&waves, Grid::new(n, spacing).unwrap(), t);
+    }
+
+    /// Any band of rows is bit-identical to the same rows of a whole step, on both paths.
+    #[test]
+    fn bands_match_whole_steps(
+        waves in prop::collection::vec(wave(), 1..=6),
+        n in 2usize..70,
+        cut in 0.0f64..1.0,
+        t in time(),
+    ) {
+        let waves = WaveSet::new(waves).unwrap();
+        let grid = Grid::new(n, 1.0).unwrap();
+        // Bands are never empty: the frame loop gives each helper at least one row.
+        let cut = 1 + (cut * (n - 1) as f64) as usize;
+        for isa in Isa::available() {
+            for kernel in [FastKernel::with_isa(&waves, isa), FastKernel::with_isa(&waves, isa).per_wave()] {
+                for analytic in [false, true] {
+                    let mut whole = Mesh::new(grid);
+                    kernel.clone().step(&mut whole, t, analytic);
+                    let mut banded = Mesh::new(grid);
+                    for rows in [0..cut, cut..n] {
+                        kernel.clone().step_rows(banded.rows_mut(rows), t, analytic);
+                    }
+                    prop_assert!(banded == whole, "{:?} {:?} analytic={}", isa, kernel.path(), analytic);
+                }
+            }
+        }
     }
 
     #[test]

@@ -1,11 +1,12 @@
 //! The fast kernel: the reference surface from separable phase tables, half-angle powers and
 //! vector loops selected at run time (see `docs/performance.md`).
 
+pub mod fused;
 pub mod math;
-pub mod norm;
 pub mod phase;
 pub mod simd;
 pub mod stencil;
+mod vector;
 
 pub use simd::Isa;
 pub use stencil::StencilNormals;
@@ -14,11 +15,31 @@ use super::mesh::{Mesh, MeshRows};
 use super::waves::WaveSet;
 use phase::{Tables, WaveConsts};
 
+/// Which row loop a fast kernel runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Path {
+    /// All waves in one pass with the outputs in registers (`fused`): integer exponents only.
+    Fused,
+    /// One pass over the row per wave (`simd`): any exponent.
+    PerWave,
+}
+
+impl Path {
+    /// Name for reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Path::Fused => "fused",
+            Path::PerWave => "per-wave",
+        }
+    }
+}
+
 /// Per-ocean state of the fast kernel: hoisted wave constants and the phase tables of the grid
 /// last stepped (rebuilt when a mesh of another grid comes in).
 #[derive(Clone, Debug)]
 pub struct FastKernel {
     isa: Isa,
+    path: Path,
     waves: Vec<WaveConsts>,
     tables: Option<Tables>,
 }
@@ -29,19 +50,38 @@ impl FastKernel {
         Self::with_isa(waves, Isa::detect())
     }
 
-    /// A fast kernel forced to `isa`, which must be one of `Isa::available()`.
+    /// A fast kernel forced to `isa`, which must be one of `Isa::available()`; the fused path
+    /// when it covers the waves.
     pub fn with_isa(waves: &WaveSet, isa: Isa) -> Self {
         assert!(Isa::available().contains(&isa), "{isa:?} not supported");
+        let waves = WaveConsts::from_set(waves);
+        let path = if fused::covers(&waves) {
+            Path::Fused
+        } else {
+            Path::PerWave
+        };
         FastKernel {
             isa,
-            waves: WaveConsts::from_set(waves),
+            path,
+            waves,
             tables: None,
         }
+    }
+
+    /// The same kernel on the per-wave path (for comparisons; results are bit-identical).
+    pub fn per_wave(mut self) -> Self {
+        self.path = Path::PerWave;
+        self
     }
 
     /// The instruction set in use.
     pub fn isa(&self) -> Isa {
         self.isa
+    }
+
+    /// The row loop in use.
+    pub fn path(&self) -> Path {
+        self.path
     }
 
     /// Fills `mesh.z` for time `t` and, with `analytic_normals`, the normals from the partial
@@ -67,13 +107,21 @@ impl FastKernel {
                 mesh.y,
             )),
         };
-        tables.set_time(&self.waves, t as f64);
-        let out = simd::Out {
-            z: mesh.z,
-            nx: mesh.nx,
-            ny: mesh.ny,
-            nz: mesh.nz,
+        tables.set_time(&self.waves, t as f64, self.path == Path::Fused);
+        let step = simd::Step {
+            waves: &self.waves,
+            tables,
+            out: simd::Out {
+                z: mesh.z,
+                nx: mesh.nx,
+                ny: mesh.ny,
+                nz: mesh.nz,
+            },
+            analytic: analytic_normals,
         };
-        simd::step(self.isa, &self.waves, tables, out, analytic_normals);
+        match self.path {
+            Path::Fused => simd::dispatch(self.isa, fused::Fused(step)),
+            Path::PerWave => simd::dispatch(self.isa, simd::PerWave(step)),
+        }
     }
 }

@@ -1,13 +1,18 @@
-//! The row loops of the fast kernel and their run-time dispatch.
+//! Run-time dispatch to the instruction sets, the per-vertex wave formula every path shares,
+//! and the per-wave row loops.
 //!
-//! Each loop is plain Rust over slices, `#[inline(always)]`, and is instantiated inside
-//! `#[target_feature]` entry points, so LLVM vectorises the same source for AVX-512, AVX2+FMA
-//! and the portable baseline; the binary stays portable and the widest path is picked at run
-//! time.
+//! Each loop is `#[inline(always)]` and generic over the vector type, and is instantiated
+//! inside one `#[target_feature]` entry point per instruction set, so the same source is
+//! compiled for AVX-512, AVX2+FMA and the portable baseline; the binary stays portable and the
+//! widest path is picked at run time. The per-wave loops are plain Rust over slices that LLVM
+//! vectorises; they cover every exponent and are the baseline the fused loop is measured
+//! against.
 
 use super::math::{fma, pow_abs, powi};
-use super::norm;
 use super::phase::{Power, Tables, WaveConsts};
+#[cfg(target_arch = "x86_64")]
+use super::vector::{Avx2, Avx512};
+use super::vector::{Lane, Portable, Vector};
 
 /// The instruction set a fast kernel runs with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -66,97 +71,130 @@ pub struct Out<'a> {
     pub nz: &'a mut [f32],
 }
 
-/// Runs one step with `isa`, which the caller has checked this CPU supports.
-pub fn step(isa: Isa, waves: &[WaveConsts], tables: &Tables, out: Out, analytic: bool) {
+impl<'a> Out<'a> {
+    /// Row by row: `[z, nx, ny, nz]` of each row of `n` vertices.
+    pub fn rows(self, n: usize) -> impl Iterator<Item = [&'a mut [f32]; 4]> {
+        let Out { z, nx, ny, nz } = self;
+        let zs = z.chunks_exact_mut(n).zip(nx.chunks_exact_mut(n));
+        let ns = ny.chunks_exact_mut(n).zip(nz.chunks_exact_mut(n));
+        zs.zip(ns).map(|((z, nx), (ny, nz))| [z, nx, ny, nz])
+    }
+}
+
+/// Work generic over the instruction set: `run` is instantiated once per set with its vector
+/// type `V`, whether it has FMA (`F`, for scalar `Lane<F>` loops) and the vectors in a fused
+/// tile (`K`: 4 of AVX-512's 32 registers' worth, 2 for the 16-register sets).
+pub trait ForIsa {
+    /// What the work returns.
+    type Output;
+    /// Runs the work; implementations are `#[inline(always)]` so it is compiled with `V`'s
+    /// target features.
+    fn run<const F: bool, const K: usize, V: Vector>(self) -> Self::Output;
+}
+
+/// Runs `work` with `isa`, which the caller has checked this CPU supports.
+pub fn dispatch<T: ForIsa>(isa: Isa, work: T) -> T::Output {
     match isa {
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `isa` comes from `Isa::available`, so the CPU has these features.
-        Isa::Avx512 => unsafe { step_avx512(waves, tables, out, analytic) },
+        Isa::Avx512 => unsafe { run_avx512(work) },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
-        Isa::Avx2 => unsafe { step_avx2(waves, tables, out, analytic) },
-        _ => step_body::<false, false>(waves, tables, out, analytic),
+        Isa::Avx2 => unsafe { run_avx2(work) },
+        _ => work.run::<false, 2, Portable>(),
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx2,fma")]
-fn step_avx512(waves: &[WaveConsts], tables: &Tables, out: Out, analytic: bool) {
-    step_body::<true, true>(waves, tables, out, analytic)
+fn run_avx512<T: ForIsa>(work: T) -> T::Output {
+    work.run::<true, 4, Avx512>()
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-fn step_avx2(waves: &[WaveConsts], tables: &Tables, out: Out, analytic: bool) {
-    step_body::<true, false>(waves, tables, out, analytic)
+fn run_avx2<T: ForIsa>(work: T) -> T::Output {
+    work.run::<true, 2, Avx2>()
 }
 
-/// Calls `$f::<F, E>` with the compile-time exponent matching `$e` (0..=MAX_INT_EXP).
+/// Calls `$f::<generics…, E>(args…)` with the compile-time exponent E matching `$e`
+/// (0..=MAX_INT_EXP).
 macro_rules! by_exp {
-    ($e:expr, $f:ident, $F:ident, ($($arg:expr),*)) => {
+    ($e:expr, $f:ident::<$($g:tt),*>($($arg:expr),*)) => {
         match $e {
-            0 => $f::<$F, 0>($($arg),*),
-            1 => $f::<$F, 1>($($arg),*),
-            2 => $f::<$F, 2>($($arg),*),
-            3 => $f::<$F, 3>($($arg),*),
-            4 => $f::<$F, 4>($($arg),*),
-            5 => $f::<$F, 5>($($arg),*),
-            6 => $f::<$F, 6>($($arg),*),
-            7 => $f::<$F, 7>($($arg),*),
-            8 => $f::<$F, 8>($($arg),*),
-            9 => $f::<$F, 9>($($arg),*),
-            10 => $f::<$F, 10>($($arg),*),
-            11 => $f::<$F, 11>($($arg),*),
-            12 => $f::<$F, 12>($($arg),*),
+            0 => $f::<$($g,)* 0>($($arg),*),
+            1 => $f::<$($g,)* 1>($($arg),*),
+            2 => $f::<$($g,)* 2>($($arg),*),
+            3 => $f::<$($g,)* 3>($($arg),*),
+            4 => $f::<$($g,)* 4>($($arg),*),
+            5 => $f::<$($g,)* 5>($($arg),*),
+            6 => $f::<$($g,)* 6>($($arg),*),
+            7 => $f::<$($g,)* 7>($($arg),*),
+            8 => $f::<$($g,)* 8>($($arg),*),
+            9 => $f::<$($g,)* 9>($($arg),*),
+            10 => $f::<$($g,)* 10>($($arg),*),
+            11 => $f::<$($g,)* 11>($($arg),*),
+            12 => $f::<$($g,)* 12>($($arg),*),
             _ => unreachable!("exponent above MAX_INT_EXP"),
         }
     };
 }
+pub(super) use by_exp;
 
-/// Row by row, wave by wave: the row's outputs stay in L1 while every wave adds to them, and
-/// the per-wave branch on the power kind is taken once per row, outside the vector loop.
-/// `W` selects the AVX-512 normalisation (only instantiated inside `step_avx512`).
-#[inline(always)]
-fn step_body<const F: bool, const W: bool>(
-    waves: &[WaveConsts],
-    tables: &Tables,
-    out: Out,
-    analytic: bool,
-) {
-    let (n, m) = (tables.grid.n, tables.rows);
-    let rows = out
-        .z
-        .chunks_exact_mut(n)
-        .zip(out.nx.chunks_exact_mut(n))
-        .zip(out.ny.chunks_exact_mut(n).zip(out.nz.chunks_exact_mut(n)));
-    for (i, ((z, nx), (ny, nz))) in rows.enumerate() {
-        z.fill(0.0);
-        if analytic {
-            nx.fill(0.0);
-            ny.fill(0.0);
-        }
-        for (w, wave) in waves.iter().enumerate() {
-            let sa = &tables.col_sin[w * n..(w + 1) * n];
-            let ca = &tables.col_cos[w * n..(w + 1) * n];
-            let (sb, cb) = (tables.row_sin[w * m + i], tables.row_cos[w * m + i]);
-            let a = wave.amp;
-            match (analytic, wave.power) {
-                (false, Power::Int(e)) => by_exp!(e, heights_int, F, (sa, ca, sb, cb, a, z)),
-                (false, Power::General(e)) => heights_gen::<F>(sa, ca, sb, cb, a, e, z),
-                (true, Power::Int(e)) => {
-                    by_exp!(e, full_int, F, (sa, ca, sb, cb, wave, z, nx, ny))
+/// One step's inputs and outputs, for either row loop.
+pub struct Step<'a> {
+    /// The enabled waves' constants.
+    pub waves: &'a [WaveConsts],
+    /// Their tables for the band `out` covers.
+    pub tables: &'a Tables,
+    /// The band's output rows.
+    pub out: Out<'a>,
+    /// Whether to fill normals from the slopes, not heights alone.
+    pub analytic: bool,
+}
+
+/// A step on the per-wave loop, for [`dispatch`].
+pub struct PerWave<'a>(pub Step<'a>);
+
+impl ForIsa for PerWave<'_> {
+    type Output = ();
+
+    /// Row by row, wave by wave: the row's outputs stay in L1 while every wave adds to them, and
+    /// the per-wave branch on the power kind is taken once per row, outside the vector loop.
+    /// This and the loops below are main's per-wave kernel as it was, the baseline the fused
+    /// loop is measured against: only the table stride and the dispatch around it changed.
+    #[inline(always)]
+    fn run<const F: bool, const K: usize, V: Vector>(self) {
+        let Step {
+            waves,
+            tables,
+            out,
+            analytic,
+        } = self.0;
+        let (n, m, stride) = (tables.grid.n, tables.rows, tables.stride);
+        for (i, [z, nx, ny, nz]) in out.rows(n).enumerate() {
+            z.fill(0.0);
+            if analytic {
+                nx.fill(0.0);
+                ny.fill(0.0);
+            }
+            for (w, wave) in waves.iter().enumerate() {
+                let sa = &tables.col_sin[w * stride..w * stride + n];
+                let ca = &tables.col_cos[w * stride..w * stride + n];
+                let (sb, cb) = (tables.row_sin[w * m + i], tables.row_cos[w * m + i]);
+                let a = wave.amp;
+                match (analytic, wave.power) {
+                    (false, Power::Int(e)) => by_exp!(e, heights_int::<F>(sa, ca, sb, cb, a, z)),
+                    (false, Power::General(e)) => heights_gen::<F>(sa, ca, sb, cb, a, e, z),
+                    (true, Power::Int(e)) => {
+                        by_exp!(e, full_int::<F>(sa, ca, sb, cb, wave, z, nx, ny))
+                    }
+                    (true, Power::General(e)) => full_gen::<F>(sa, ca, sb, cb, wave, e, z, nx, ny),
                 }
-                (true, Power::General(e)) => full_gen::<F>(sa, ca, sb, cb, wave, e, z, nx, ny),
             }
-        }
-        if analytic {
-            #[cfg(target_arch = "x86_64")]
-            if W {
-                // SAFETY: W is only set in `step_avx512`, which runs on AVX-512 CPUs.
-                unsafe { norm::slopes_avx512(nx, ny, nz) };
-                continue;
+            if analytic {
+                V::slopes_to_normals::<F>(nx, ny, nz);
             }
-            norm::slopes::<F>(nx, ny, nz);
         }
     }
 }
@@ -185,7 +223,7 @@ fn heights_int<const F: bool, const E: u32>(
 ) {
     for ((z, &sa), &ca) in z.iter_mut().zip(sa).zip(ca) {
         let h = half_sin::<F>(sa, ca, sb, cb);
-        *z = fma::<F>(amp, powi::<E>(h.abs()) * (h * h), *z);
+        *z = fma::<F>(amp, powi::<Lane<F>, E>(Lane(h.abs())).0 * (h * h), *z);
     }
 }
 
@@ -224,7 +262,7 @@ fn full_int<const F: bool, const E: u32>(
     for (((z, dx), dy), (&sa, &ca)) in outs.zip(sa.iter().zip(ca)) {
         let h = half_sin::<F>(sa, ca, sb, cb);
         let g = half_cos::<F>(sa, ca, sb, cb);
-        let p = powi::<E>(h.abs());
+        let p = powi::<Lane<F>, E>(Lane(h.abs())).0;
         *z = fma::<F>(amp, p * (h * h), *z);
         let q = p * (h * g);
         *dx = fma::<F>(cx, q, *dx);

@@ -1,63 +1,44 @@
-//! `neighbors` normals on the regular grid as a row-wise stencil.
+//! `neighbors` normals on the regular grid as a row-wise stencil, fused into one loop.
 //!
 //! Each vertex's adjacent faces are a fixed pattern: of cell row i−1 the second triangle of
 //! cell j−1 and both triangles of cell j, of cell row i both triangles of cell j−1 and the
-//! first of cell j. So one row of face normals is computed once, reused by the two vertex rows
-//! it touches, and summed with shifted contiguous loads instead of a gathered list. Faces and
-//! sums use the same operations in the same order as `FaceNormals` (glam's cross product,
-//! ascending triangle order, no fused multiply-add), so results match it to rounding.
+//! first of cell j. `FaceNormals` sums them in that (ascending triangle) order, so the first
+//! three terms come from the cell row above and the last three from the cell row below.
+//!
+//! One loop over vector blocks of a vertex row computes the face normals of the cells below it
+//! (from the two height rows), takes the cells one to the left from the previous block's
+//! registers, adds the row's three terms to the three the row above left, normalises, and
+//! stores the normals. It also leaves, for the next row, that row's first three terms: so of
+//! the cell row between two vertex rows only two rolling rows of partial sums (x and y) ever
+//! reach memory, and they stay in L1. The z terms depend on the spacing alone and are summed
+//! once per distinct pair of row spacings.
+//!
+//! Faces and sums use the same operations in the same order as `FaceNormals` (glam's cross
+//! product without fused multiply-add), so results match it to rounding.
 
-use super::norm;
-use super::simd::Isa;
+use super::simd::{dispatch, ForIsa, Isa};
+use super::vector::Vector;
 use crate::ocean::mesh::Mesh;
 
-/// Face normals of one row of cells, stored at column j + 1 for cell j so that index 0 and n
-/// are zero padding for the missing cells at the left and right edges. Both triangles of a
-/// cell share the z component dx·dy.
-#[derive(Clone, Debug, Default)]
-struct FaceRow {
-    t1x: Vec<f32>,
-    t1y: Vec<f32>,
-    t2x: Vec<f32>,
-    t2y: Vec<f32>,
-    fz: Vec<f32>,
-}
-
-impl FaceRow {
-    fn zeros(n: usize) -> FaceRow {
-        let z = vec![0.0; n + 1];
-        FaceRow {
-            t1x: z.clone(),
-            t1y: z.clone(),
-            t2x: z.clone(),
-            t2y: z.clone(),
-            fz: z,
-        }
-    }
-
-    fn clear(&mut self) {
-        for v in [
-            &mut self.t1x,
-            &mut self.t1y,
-            &mut self.t2x,
-            &mut self.t2y,
-            &mut self.fz,
-        ] {
-            v.fill(0.0);
-        }
-    }
-}
-
 /// The `neighbors` normal method for the fast kernel: same sums as `FaceNormals`, computed as a
-/// stencil over two rolling rows of face normals.
+/// stencil in one pass per vertex row.
 #[derive(Clone, Debug)]
 pub struct StencilNormals {
     isa: Isa,
     n: usize,
-    prev: FaceRow,
-    cur: FaceRow,
-    /// x[j + 1] − x[j] of the mesh (exactly what the reference's b − a gives).
-    dx: Vec<f32>,
+    /// For each vertex of the current row, x and y of its first three face terms (cell row
+    /// above); 0 for the first row.
+    above: [Vec<f32>; 2],
+    /// The same for the next row, written while the current row is summed.
+    below: [Vec<f32>; 2],
+    /// −(x[c + 1] − x[c]) of each cell column c; 0 from the missing cell n − 1 on.
+    ndx: Vec<f32>,
+    /// Each vertex's summed z terms for the row spacings in `zsum_for`.
+    zsum: Vec<f32>,
+    /// Their squares, for the normalisation.
+    zsum2: Vec<f32>,
+    /// Bits of the spacings (above, below) `zsum` was summed for.
+    zsum_for: Option<(u32, u32)>,
 }
 
 impl StencilNormals {
@@ -72,30 +53,51 @@ impl StencilNormals {
         StencilNormals {
             isa,
             n: 0,
-            prev: FaceRow::default(),
-            cur: FaceRow::default(),
-            dx: Vec::new(),
+            above: Default::default(),
+            below: Default::default(),
+            ndx: Vec::new(),
+            zsum: Vec::new(),
+            zsum2: Vec::new(),
+            zsum_for: None,
         }
     }
 
     /// Recomputes every vertex normal of `mesh` from its current heights.
     pub fn compute(&mut self, mesh: &mut Mesh) {
         let n = mesh.grid.n;
+        // Whole vectors of every width from any block start below n.
+        let len = n.next_multiple_of(16);
         if self.n != n {
             self.n = n;
-            self.prev = FaceRow::zeros(n);
-            self.cur = FaceRow::zeros(n);
+            for v in self.above.iter_mut().chain(&mut self.below) {
+                *v = vec![0.0; len];
+            }
+            self.zsum = vec![0.0; len];
+            self.zsum2 = vec![0.0; len];
         }
-        self.dx.clear();
-        self.dx.extend(mesh.x[..n].windows(2).map(|w| w[1] - w[0]));
-        match self.isa {
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: `with_isa` checked the CPU supports `isa`.
-            Isa::Avx512 => unsafe { compute_avx512(self, mesh) },
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: as above.
-            Isa::Avx2 => unsafe { compute_avx2(self, mesh) },
-            _ => compute_body::<false>(self, mesh),
+        self.ndx.clear();
+        self.ndx
+            .extend(mesh.x[..n].windows(2).map(|w| -(w[1] - w[0])));
+        self.ndx.resize(len, 0.0);
+        self.zsum_for = None;
+        dispatch(self.isa, Compute { s: self, mesh });
+    }
+
+    /// Sums each vertex's six face z terms (cell width × row spacing) for spacings `above`
+    /// and `below` (0 where that cell row is missing), unless they were summed last.
+    fn sum_z(&mut self, above: f32, below: f32) {
+        let key = (above.to_bits(), below.to_bits());
+        if self.zsum_for == Some(key) {
+            return;
+        }
+        self.zsum_for = Some(key);
+        let left = std::iter::once(0.0).chain(self.ndx.iter().map(|d| -d));
+        let right = self.ndx.iter().map(|d| -d);
+        let sums = self.zsum.iter_mut().zip(&mut self.zsum2);
+        for ((z, z2), (l, r)) in sums.zip(left.zip(right)) {
+            let (pl, pr, cl, cr) = (l * above, r * above, l * below, r * below);
+            *z = pl + pr + pr + cl + cl + cr;
+            *z2 = *z * *z;
         }
     }
 }
@@ -106,98 +108,216 @@ impl Default for StencilNormals {
     }
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx2")]
-fn compute_avx512(s: &mut StencilNormals, mesh: &mut Mesh) {
-    compute_body::<true>(s, mesh)
+/// `StencilNormals::compute` through `dispatch`.
+struct Compute<'a> {
+    s: &'a mut StencilNormals,
+    mesh: &'a mut Mesh,
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn compute_avx2(s: &mut StencilNormals, mesh: &mut Mesh) {
-    compute_body::<false>(s, mesh)
+impl ForIsa for Compute<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<const F: bool, const K: usize, V: Vector>(self) {
+        let Compute { s, mesh } = self;
+        let n = s.n;
+        let Mesh {
+            y, z, nx, ny, nz, ..
+        } = mesh;
+        for v in &mut s.above {
+            v.fill(0.0);
+        }
+        let spacing = |i: usize| y[(i + 1) * n] - y[i * n];
+        for i in 0..n {
+            let cells = i + 1 < n;
+            let dy = if cells { spacing(i) } else { 0.0 };
+            s.sum_z(if i > 0 { spacing(i - 1) } else { 0.0 }, dy);
+            let (r, next) = (i * n..(i + 1) * n, (i + 1) * n..(i + 2).min(n + 1) * n);
+            let [ax, ay] = &s.above;
+            let [bx, by] = &mut s.below;
+            let row = Row {
+                z0: &z[r.clone()],
+                z1: if cells { &z[next] } else { &z[r.clone()] },
+                dy,
+                ndx: &s.ndx,
+                zsum: &s.zsum,
+                zsum2: &s.zsum2,
+                above: [ax, ay],
+                below: [bx, by],
+                out: [&mut nx[r.clone()], &mut ny[r.clone()], &mut nz[r]],
+            };
+            if cells {
+                row_normals::<V, true>(row);
+            } else {
+                row_normals::<V, false>(row);
+            }
+            std::mem::swap(&mut s.above, &mut s.below);
+        }
+    }
 }
 
-/// `W` selects the AVX-512 normalisation (only instantiated inside `compute_avx512`).
-#[inline(always)]
-fn compute_body<const W: bool>(s: &mut StencilNormals, mesh: &mut Mesh) {
-    let n = s.n;
-    s.prev.clear();
-    for i in 0..n {
-        if i + 1 < n {
-            let dy = mesh.y[(i + 1) * n] - mesh.y[i * n];
-            let z0 = &mesh.z[i * n..(i + 1) * n];
-            let z1 = &mesh.z[(i + 1) * n..(i + 2) * n];
-            face_row(&mut s.cur, &s.dx, dy, z0, z1);
+/// One vertex row's inputs and outputs.
+struct Row<'a> {
+    /// Heights of the row.
+    z0: &'a [f32],
+    /// Heights of the next row (the row itself when there is none).
+    z1: &'a [f32],
+    /// Spacing to the next row.
+    dy: f32,
+    /// See `StencilNormals::ndx`.
+    ndx: &'a [f32],
+    /// See `StencilNormals::zsum`.
+    zsum: &'a [f32],
+    /// See `StencilNormals::zsum2`.
+    zsum2: &'a [f32],
+    /// See `StencilNormals::above`.
+    above: [&'a [f32]; 2],
+    /// See `StencilNormals::below`.
+    below: [&'a mut [f32]; 2],
+    /// The row's normals: x, y, z.
+    out: [&'a mut [f32]; 3],
+}
+
+impl Row<'_> {
+    /// `V` at `s[j..]`: unchecked in whole blocks, which `row_normals` keeps inside every array,
+    /// so that the loop carries one index instead of a bounds check per access.
+    #[inline(always)]
+    fn get<V: Vector, const WHOLE: bool>(s: &[f32], j: usize) -> V {
+        if WHOLE {
+            debug_assert!(j + V::LANES <= s.len());
+            // SAFETY: see above.
+            unsafe { V::read(s.as_ptr().add(j)) }
         } else {
-            s.cur.clear();
+            V::load(&s[j..])
         }
-        let r = i * n..(i + 1) * n;
-        let (nx, ny, nz) = (
-            &mut mesh.nx[r.clone()],
-            &mut mesh.ny[r.clone()],
-            &mut mesh.nz[r],
-        );
-        vertex_row(&s.prev, &s.cur, nx, ny, nz);
-        std::mem::swap(&mut s.prev, &mut s.cur);
-        #[cfg(target_arch = "x86_64")]
-        if W {
-            // SAFETY: W is only set in `compute_avx512`, which runs on AVX-512 CPUs.
-            unsafe { norm::sums_avx512(nx, ny, nz) };
-            continue;
+    }
+
+    /// Writes `v` to `s[j..]`, at most to the end of `s`; unchecked in whole blocks, as `get`.
+    #[inline(always)]
+    fn put<V: Vector, const WHOLE: bool>(v: V, s: &mut [f32], j: usize) {
+        if WHOLE {
+            debug_assert!(j + V::LANES <= s.len());
+            // SAFETY: see `get`.
+            unsafe { v.write(s.as_mut_ptr().add(j)) }
+        } else {
+            let end = (j + V::LANES).min(s.len());
+            v.store_prefix(&mut s[j..end]);
         }
-        norm::sums(nx, ny, nz);
     }
 }
 
-/// Face normals of the cells between vertex rows z0 (y) and z1 (y + dy); triangle 1 is [a,b,c],
-/// triangle 2 is [b,d,c] with a = z0[j], b = z0[j+1], c = z1[j], d = z1[j+1].
+/// Normals of one vertex row, `V::LANES` vertices a block; `CELLS` when there is a cell row
+/// below it (every row but the last).
 #[inline(always)]
-fn face_row(f: &mut FaceRow, dx: &[f32], dy: f32, z0: &[f32], z1: &[f32]) {
-    let m = dx.len();
-    let (a, b, c, d) = (&z0[..m], &z0[1..m + 1], &z1[..m], &z1[1..m + 1]);
-    let (t1x, t1y) = (&mut f.t1x[1..m + 1], &mut f.t1y[1..m + 1]);
-    let (t2x, t2y, fz) = (
-        &mut f.t2x[1..m + 1],
-        &mut f.t2y[1..m + 1],
-        &mut f.fz[1..m + 1],
-    );
-    for j in 0..m {
-        let (ab, ac, bc, bd) = (b[j] - a[j], c[j] - a[j], c[j] - b[j], d[j] - b[j]);
-        t1x[j] = -(dy * ab);
-        t1y[j] = -(ac * dx[j]);
-        t2x[j] = dy * bc - dy * bd;
-        t2y[j] = bd * -dx[j];
-        fz[j] = dx[j] * dy;
+fn row_normals<V: Vector, const CELLS: bool>(mut r: Row) {
+    let (n, l) = (r.z0.len(), V::LANES);
+    // What makes whole blocks' unchecked accesses safe: they end before n − 1 (heights are
+    // read one past a block), and the scratch arrays are as long as the padded rows.
+    assert!(r.z1.len() == n && r.out.iter().all(|o| o.len() == n));
+    let scratch = [
+        r.ndx,
+        r.zsum,
+        r.zsum2,
+        r.above[0],
+        r.above[1],
+        &*r.below[0],
+        &*r.below[1],
+    ];
+    assert!(scratch.iter().all(|s| s.len() >= n.next_multiple_of(l)));
+    let mut left = [V::splat(0.0); 4];
+    // Blocks whose faces need no height past the row's end, two at a time: one block's chain
+    // from heights to stored normals is about 60 cycles of latency, more than the FP scheduler
+    // can overlap with the next block's on its own. The rest go through padded buffers, kept
+    // apart so that the whole blocks' registers do not spill around them.
+    let whole = (n - 1) / l * l;
+    let pairs = whole / (2 * l) * (2 * l);
+    for j in (0..pairs).step_by(2 * l) {
+        blocks::<V, CELLS, true, 2>(&mut r, j, &mut left);
+    }
+    for j in (pairs..whole).step_by(l) {
+        blocks::<V, CELLS, true, 1>(&mut r, j, &mut left);
+    }
+    for j in (whole..n).step_by(l) {
+        blocks::<V, CELLS, false, 1>(&mut r, j, &mut left);
     }
 }
 
-/// Sums the six faces around each vertex of a row, in ascending triangle order.
+/// The normals of `U` consecutive blocks of vertices from j, their steps interleaved; `left`
+/// holds the faces of the block before and receives the last block's. `WHOLE` when the blocks
+/// end before the row's last vertex.
 #[inline(always)]
-fn vertex_row(p: &FaceRow, c: &FaceRow, nx: &mut [f32], ny: &mut [f32], nz: &mut [f32]) {
-    let n = nx.len();
-    let (ny, nz) = (&mut ny[..n], &mut nz[..n]);
-    let (p1x, p1y, p2x, p2y, pz) = (&p.t1x, &p.t1y, &p.t2x, &p.t2y, &p.fz);
-    let (c1x, c1y, c2x, c2y, cz) = (&c.t1x, &c.t1y, &c.t2x, &c.t2y, &c.fz);
-    let (p1x, p1y, p2x, p2y, pz) = (
-        &p1x[..n + 1],
-        &p1y[..n + 1],
-        &p2x[..n + 1],
-        &p2y[..n + 1],
-        &pz[..n + 1],
-    );
-    let (c1x, c1y, c2x, c2y, cz) = (
-        &c1x[..n + 1],
-        &c1y[..n + 1],
-        &c2x[..n + 1],
-        &c2y[..n + 1],
-        &cz[..n + 1],
-    );
-    for j in 0..n {
-        let sx = p2x[j] + p1x[j + 1] + p2x[j + 1] + c1x[j] + c2x[j] + c1x[j + 1];
-        let sy = p2y[j] + p1y[j + 1] + p2y[j + 1] + c1y[j] + c2y[j] + c1y[j + 1];
-        nx[j] = sx;
-        ny[j] = sy;
-        nz[j] = pz[j] + pz[j + 1] + pz[j + 1] + cz[j] + cz[j] + cz[j + 1];
+fn blocks<V: Vector, const CELLS: bool, const WHOLE: bool, const U: usize>(
+    r: &mut Row,
+    j: usize,
+    left: &mut [V; 4],
+) {
+    // Plain loops, no closures: a closure is compiled without the caller's target features,
+    // and if it is not inlined every intrinsic in it becomes a call.
+    let l = V::LANES;
+    let zero = V::splat(0.0);
+    let mut here = [[zero; 4]; U];
+    if CELLS {
+        for (u, faces_u) in here.iter_mut().enumerate() {
+            *faces_u = faces::<V, WHOLE>(r, j + u * l);
+        }
     }
+    let mut shifted = [[zero; 4]; U];
+    for u in 0..U {
+        let before = if u == 0 { *left } else { here[u - 1] };
+        for k in 0..4 {
+            shifted[u][k] = here[u][k].shift_in(before[k]);
+        }
+    }
+    *left = here[U - 1];
+    let mut sums = [[zero; 4]; U];
+    for u in 0..U {
+        let ([l1x, l1y, l2x, l2y], [t1x, t1y, t2x, t2y]) = (shifted[u], here[u]);
+        let j = j + u * l;
+        let sx = Row::get::<V, WHOLE>(r.above[0], j) + l1x + l2x + t1x;
+        let sy = Row::get::<V, WHOLE>(r.above[1], j) + l1y + l2y + t1y;
+        if CELLS {
+            Row::put::<V, WHOLE>(l2x + t1x + t2x, r.below[0], j);
+            Row::put::<V, WHOLE>(l2y + t1y + t2y, r.below[1], j);
+        }
+        let get = Row::get::<V, WHOLE>;
+        let (sz, zz) = (get(r.zsum, j), get(r.zsum2, j));
+        sums[u] = [sx, sy, sz, zz];
+    }
+    let mut units = [[zero; 3]; U];
+    for (unit, &[x, y, z, zz]) in units.iter_mut().zip(&sums) {
+        *unit = V::unit(x, y, z, zz);
+    }
+    for (u, normal) in units.into_iter().enumerate() {
+        for (c, out) in normal.into_iter().zip(&mut r.out) {
+            Row::put::<V, WHOLE>(c, out, j + u * l);
+        }
+    }
+}
+
+/// x and y of both triangles' face normals (t1x, t1y, t2x, t2y) of cells j.. between height
+/// rows z0 and z1: triangle 1 is [a,b,c], triangle 2 is [b,d,c] with a = z0[j], b = z0[j+1],
+/// c = z1[j], d = z1[j+1]. Past the row's end (only when not `WHOLE`) the heights repeat the
+/// last one, which with the zero cell width there makes every term of the missing cells 0.
+#[inline(always)]
+fn faces<V: Vector, const WHOLE: bool>(r: &Row, j: usize) -> [V; 4] {
+    let n = r.z0.len();
+    let (a, b, c, d) = if WHOLE {
+        let get = Row::get::<V, WHOLE>;
+        (
+            get(r.z0, j),
+            get(r.z0, j + 1),
+            get(r.z1, j),
+            get(r.z1, j + 1),
+        )
+    } else {
+        let (p0, p1) = (r.z0[n - 1], r.z1[n - 1]);
+        let (z0, z1) = (&r.z0[j..], &r.z1[j..]);
+        let (a, b) = (V::load_padded(z0, p0), V::load_padded(&z0[1..], p0));
+        (a, b, V::load_padded(z1, p1), V::load_padded(&z1[1..], p1))
+    };
+    let ndx = Row::get::<V, WHOLE>(r.ndx, j);
+    let (dy, ndy) = (V::splat(r.dy), V::splat(-r.dy));
+    let (ab, ac, bc, bd) = (b - a, c - a, c - b, d - b);
+    // −(dy·ab) and −(ac·dx) of the cross product, with the sign moved onto a factor (exact).
+    [ab * ndy, ac * ndx, dy * bc - dy * bd, bd * ndx]
 }
