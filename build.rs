@@ -18,10 +18,6 @@ fn main() {
         .and_then(|o| String::from_utf8(o.stdout).ok())
         .unwrap_or_default();
     println!("cargo:rustc-env=OCEANBENCH_GIT_COMMIT={}", commit.trim());
-    println!(
-        "cargo:rustc-env=OCEANBENCH_PROFILE={}",
-        std::env::var("PROFILE").unwrap_or_default()
-    );
     println!("cargo:rerun-if-changed=.git/HEAD");
     println!("cargo:rerun-if-changed=.git/refs");
 }

@@ -202,7 +202,7 @@ fn main() {
     let kernel = |waves: &WaveSet, path: Path| {
         let k = FastKernel::with_isa(waves, isa);
         match path {
-            Path::Fused => k,
+            Path::Fused => k.fused(),
             Path::PerWave => k.per_wave(),
         }
     };

@@ -1,5 +1,6 @@
 //! Pinning threads to cores, and checking that the pin held.
 
+use crate::input::InputError;
 use serde::{Deserialize, Serialize};
 use std::sync::OnceLock;
 
@@ -44,13 +45,13 @@ pub fn pin_current(core: usize) -> Pin {
 }
 
 /// Checks that each requested core is allowed, naming the allowed ones if not.
-pub fn check_allowed(cores: &[usize]) -> Result<(), String> {
+pub fn check_allowed(cores: &[usize]) -> Result<(), InputError> {
     let allowed = allowed_cores();
     match cores.iter().find(|c| !allowed.contains(c)) {
-        Some(bad) => Err(format!(
+        Some(bad) => Err(InputError(format!(
             "cores: core {bad} is not allowed for this process; allowed cores: {}",
             list(allowed)
-        )),
+        ))),
         None => Ok(()),
     }
 }

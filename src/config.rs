@@ -2,23 +2,16 @@
 //! defaults that reproduce Figure 5-1 and validation that names the field and what is allowed.
 
 use crate::affinity;
-use crate::frame_loop::{check_helpers, Budget, Mode, Threading};
-use crate::ocean::{mesh, normals, Grid, Kernel, Mesh, NormalMethod, Wave, WaveSet};
+use crate::balance::BalanceSettings;
+use crate::calibrate::Calibrate;
+use crate::cell::{Axes, CellKey};
+use crate::frame_loop::{check_depth, check_helpers, Budget, Mode};
+use crate::ocean::{mesh, normals, Grid, Mesh, NormalMethod, Wave, WaveSet};
 use crate::suggest;
-use crate::sync::SyncMethod;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-/// A problem with user input: printed as one line, exit status 2.
-#[derive(Debug, thiserror::Error)]
-#[error("{0}")]
-pub struct InputError(pub String);
-
-impl From<String> for InputError {
-    fn from(s: String) -> Self {
-        InputError(s)
-    }
-}
+pub use crate::input::InputError;
 
 /// One workload level: microseconds of one core's work, or a fraction of a mesh size's step.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -54,10 +47,14 @@ impl Level {
         }
     }
 
-    fn validate(&self, index: usize) -> Result<(), InputError> {
+    /// Checks the level's shape and, for `micros`, its bound: no more than `max_micros`.
+    fn validate(&self, index: usize, max_micros: f64) -> Result<(), InputError> {
         let field = format!("workload_levels[{index}]");
         match (self.micros, self.step_fraction, self.size) {
-            (Some(us), None, None) if us.is_finite() && us >= 0.0 => Ok(()),
+            (Some(us), None, None) if us.is_finite() && (0.0..=max_micros).contains(&us) => Ok(()),
+            (Some(us), None, None) if us.is_finite() && us > max_micros => Err(InputError(
+                too_much_work(&format!("{field}.micros"), us, max_micros),
+            )),
             (Some(us), None, None) => Err(InputError(format!(
                 "{field}.micros: must be a finite number >= 0, got {us}"
             ))),
@@ -78,32 +75,18 @@ impl Level {
     }
 }
 
-/// A sweep: every key that is a list is swept; a key left out takes the Figure 5-1 default.
+/// A sweep: the lists of [`Axes`] are crossed into cells; every other key sets how the cells
+/// are measured. A key left out takes the Figure 5-1 default.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(default)]
 pub struct SweepConfig {
     /// Names the results directory.
     pub name: String,
     /// Free text recorded with the results.
-    #[serde(skip_serializing_if = "String::is_empty")]
     pub description: String,
-    /// Mesh sizes N (N×N vertices).
-    pub sizes: Vec<usize>,
-    /// Workload indices into `workload_levels`.
-    pub workloads: Vec<usize>,
-    /// serial, up, dp.
-    pub modes: Vec<Mode>,
-    /// Hand-off methods (threaded modes).
-    pub sync: Vec<SyncMethod>,
-    /// Helper threading models (threaded modes).
-    pub threading: Vec<Threading>,
-    /// Normal methods.
-    pub normals: Vec<NormalMethod>,
-    /// Kernels.
-    pub kernel: Vec<Kernel>,
-    /// Helper counts the mesh's rows are split among (threaded modes; more than 1 needs
-    /// threading `pool` and normals `analytic`).
-    pub helpers: Vec<usize>,
+    /// The swept lists, one per dimension of a cell, under their own keys.
+    #[serde(flatten)]
+    pub axes: Axes,
     /// Trials per cell.
     pub trials: u32,
     /// Frames thrown away before each trial.
@@ -121,19 +104,23 @@ pub struct SweepConfig {
     /// Simulated seconds per frame.
     pub time_step: f64,
     /// The waves (default: the built-in deep-ocean set).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub waves: Option<Vec<Wave>>,
     /// A waves file, instead of `waves`.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub waves_file: Option<PathBuf>,
     /// Cores for main and helper: [main] or [main, helper] (default: the first allowed).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub cores: Option<Vec<usize>>,
     /// Seconds a hand-off wait may take before the cell is aborted.
     pub timeout_seconds: f64,
     /// Fault injection for testing timeouts: every helper stops producing at this frame.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub inject_stall_at_frame: Option<u64>,
+    /// When `step_fraction` levels are resolved: before every row (`row`) or once (`once`).
+    pub calibrate: Calibrate,
+    /// A trial whose run delay or steal exceeds this percentage of its wall time is noisy.
+    pub noise_threshold_percent: f64,
+    /// Times a noisy trial is re-run before it is kept anyway (0 to 10).
+    pub retry_noisy: u32,
+    /// When present, the sweep also finds each size's balance point (see `oceanbench balance`).
+    pub balance: Option<BalanceSettings>,
 }
 
 impl Default for SweepConfig {
@@ -141,14 +128,7 @@ impl Default for SweepConfig {
         SweepConfig {
             name: "figure-5-1".into(),
             description: String::new(),
-            sizes: vec![40, 128, 256],
-            workloads: vec![0, 1, 2, 3],
-            modes: vec![Mode::Serial, Mode::Up, Mode::Dp],
-            sync: vec![SyncMethod::Atomic, SyncMethod::Mutex, SyncMethod::Condvar],
-            threading: vec![Threading::Pool],
-            normals: vec![NormalMethod::Neighbors],
-            kernel: vec![Kernel::Reference],
-            helpers: vec![1],
+            axes: Axes::default(),
             trials: 5,
             warmup_frames: 20,
             min_frames: 60,
@@ -162,8 +142,21 @@ impl Default for SweepConfig {
             cores: None,
             timeout_seconds: 5.0,
             inject_stall_at_frame: None,
+            calibrate: Calibrate::Row,
+            noise_threshold_percent: 2.0,
+            retry_noisy: 0,
+            balance: None,
         }
     }
+}
+
+/// The message for a level of more work per frame than the bound.
+pub fn too_much_work(field: &str, micros: f64, max_micros: f64) -> String {
+    format!(
+        "{field}: {micros} µs of work per frame is more than timeout_seconds allows \
+         (a helper waiting that long for its slot gives the cell up); allowed 0 to {max_micros}, \
+         or raise timeout_seconds"
+    )
 }
 
 /// Workloads 0-3 placed around the step times of the default sizes, as Figure 5-1 has them:
@@ -177,14 +170,26 @@ pub fn default_levels() -> Vec<Level> {
     ]
 }
 
-/// Parses a JSON object into `T`; errors name the field path (`modes[1]: unknown variant ...`).
-fn parse_object<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, InputError> {
+/// Parses a config object. Unknown keys are refused with the closest known one (the keys are
+/// those a default config writes), each dimension's list is parsed alone so that an error names
+/// its place (`modes[1]: ...`), and other fields' errors carry their path.
+fn parse_config(text: &str) -> Result<SweepConfig, InputError> {
     let value: serde_json::Value =
         serde_json::from_str(text).map_err(|e| InputError(format!("not valid JSON: {e}")))?;
-    if !value.is_object() {
+    let Some(object) = value.as_object() else {
         return Err(InputError(
             "must be a JSON object such as {\"sizes\": [40, 128]}".into(),
         ));
+    };
+    let known = SweepConfig::keys();
+    for (key, list) in object {
+        if !known.iter().any(|k| k == key) {
+            let known: Vec<&str> = known.iter().map(String::as_str).collect();
+            return Err(InputError(suggest::unknown("field", key, &known)));
+        }
+        if let Some(parsed) = Axes::parse_key(key, list.clone()) {
+            parsed?;
+        }
     }
     serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
@@ -200,8 +205,7 @@ fn parse_object<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, InputEr
 impl SweepConfig {
     /// Parses a config file's text and validates it.
     pub fn from_json(text: &str) -> Result<Self, InputError> {
-        let config: SweepConfig =
-            parse_object(text).map_err(|e| InputError(format!("config: {e}")))?;
+        let config = parse_config(text).map_err(|e| InputError(format!("config: {e}")))?;
         config.validate()?;
         Ok(config)
     }
@@ -212,7 +216,7 @@ impl SweepConfig {
         let text = std::fs::read_to_string(path)
             .map_err(|e| InputError(format!("config {}: {e}", path.display())))?;
         let in_file = |e: InputError| InputError(format!("{}: {e}", path.display()));
-        let mut config: SweepConfig = parse_object(&text).map_err(in_file)?;
+        let mut config = parse_config(&text).map_err(in_file)?;
         if let (Some(file), Some(dir)) = (&config.waves_file, path.parent()) {
             if file.is_relative() {
                 config.waves_file = Some(dir.join(file));
@@ -227,6 +231,20 @@ impl SweepConfig {
         }
         config.validate().map_err(in_file)?;
         Ok(config)
+    }
+
+    /// The most work a frame's workload may be, in microseconds: `timeout_seconds`, after which
+    /// a helper waiting for its slot gives the cell up.
+    pub fn max_workload_micros(&self) -> f64 {
+        self.timeout_seconds * 1e6
+    }
+
+    /// Every key a config may have, in the order a config is written.
+    pub fn keys() -> Vec<String> {
+        match serde_json::to_value(SweepConfig::default()) {
+            Ok(serde_json::Value::Object(map)) => map.keys().cloned().collect(),
+            _ => unreachable!("a config serialises as an object"),
+        }
     }
 
     /// The wave set the config asks for.
@@ -257,7 +275,7 @@ impl SweepConfig {
     /// allowed cores.
     pub fn placement(&self) -> Result<[usize; 2], InputError> {
         let allowed = affinity::allowed_cores();
-        let needs_two = self.modes.contains(&Mode::Dp);
+        let needs_two = self.axes.modes.contains(&Mode::Dp);
         let cores = match &self.cores {
             Some(c) => {
                 affinity::check_allowed(c)?;
@@ -292,24 +310,6 @@ impl SweepConfig {
 
     /// Checks every field before anything runs.
     pub fn validate(&self) -> Result<(), InputError> {
-        fn non_empty<T>(field: &str, list: &[T]) -> Result<(), InputError> {
-            if list.is_empty() {
-                Err(InputError(format!("{field}: must list at least one value")))
-            } else {
-                Ok(())
-            }
-        }
-        fn no_repeats<T: PartialEq + std::fmt::Debug>(
-            field: &str,
-            list: &[T],
-        ) -> Result<(), InputError> {
-            for (i, v) in list.iter().enumerate() {
-                if list[..i].contains(v) {
-                    return Err(InputError(format!("{field}: {v:?} is listed twice")));
-                }
-            }
-            Ok(())
-        }
         if self.name.is_empty()
             || !self
                 .name
@@ -321,53 +321,24 @@ impl SweepConfig {
                 self.name
             )));
         }
-        non_empty("sizes", &self.sizes)?;
-        non_empty("workloads", &self.workloads)?;
-        non_empty("modes", &self.modes)?;
-        non_empty("sync", &self.sync)?;
-        non_empty("threading", &self.threading)?;
-        non_empty("normals", &self.normals)?;
-        non_empty("kernel", &self.kernel)?;
-        non_empty("helpers", &self.helpers)?;
-        non_empty("workload_levels", &self.workload_levels)?;
-        no_repeats("sizes", &self.sizes)?;
-        no_repeats("workloads", &self.workloads)?;
-        no_repeats("modes", &self.modes)?;
-        no_repeats("sync", &self.sync)?;
-        no_repeats("threading", &self.threading)?;
-        no_repeats("normals", &self.normals)?;
-        no_repeats("kernel", &self.kernel)?;
-        no_repeats("helpers", &self.helpers)?;
-        self.check_helpers()?;
+        self.axes.check()?;
+        self.axes.check_coverage()?;
+        if self.workload_levels.is_empty() {
+            return Err(InputError(
+                "workload_levels: must list at least one value".into(),
+            ));
+        }
         if !(self.spacing.is_finite() && self.spacing > 0.0) {
             return Err(InputError(format!(
                 "spacing: must be a finite number > 0, got {}",
                 self.spacing
             )));
         }
-        for &n in &self.sizes {
-            if !(2..=mesh::MAX_SIZE).contains(&n) {
-                return Err(InputError(format!(
-                    "sizes: {n} is not allowed; sizes are 2 to {}",
-                    mesh::MAX_SIZE
-                )));
-            }
-            let grid = Grid::new(n, self.spacing)?;
-            if self.normals.contains(&NormalMethod::Lookup)
-                && normals::lookup_work(n) > normals::LOOKUP_MAX_WORK
-            {
-                return Err(InputError(format!(
-                    "normals: `lookup` at size {n} would take over a second per frame \
-                     (the paper's O(n²) search); use sizes <= {} with lookup",
-                    normals::lookup_max_size()
-                )));
-            }
-            check_memory(grid)?;
-        }
         for (i, level) in self.workload_levels.iter().enumerate() {
-            level.validate(i)?;
+            level.validate(i, self.max_workload_micros())?;
         }
         if let Some(&w) = self
+            .axes
             .workloads
             .iter()
             .find(|&&w| w >= self.workload_levels.len())
@@ -415,35 +386,56 @@ impl SweepConfig {
                 self.timeout_seconds
             )));
         }
+        if !(self.noise_threshold_percent > 0.0 && self.noise_threshold_percent < 100.0) {
+            return Err(InputError(format!(
+                "noise_threshold_percent: must be above 0 and below 100, got {}",
+                self.noise_threshold_percent
+            )));
+        }
+        if self.retry_noisy > 10 {
+            return Err(InputError(format!(
+                "retry_noisy: must be 0 to 10, got {}",
+                self.retry_noisy
+            )));
+        }
+        if let Some(b) = &self.balance {
+            b.validate("balance.")?;
+        }
         self.wave_set()?;
         self.placement()?;
-        Ok(())
-    }
-}
-
-impl SweepConfig {
-    /// Every listed helper count must run with every listed threading, normals and size of the
-    /// threaded modes (the lists are crossed, so one bad pair would fail cells mid-sweep).
-    fn check_helpers(&self) -> Result<(), InputError> {
-        for &mode in self.modes.iter().filter(|&&m| m != Mode::Serial) {
-            for &helpers in &self.helpers {
-                for &threading in &self.threading {
-                    for &normals in &self.normals {
-                        for &size in &self.sizes {
-                            check_helpers(helpers, mode, threading, normals, size)?;
-                        }
-                    }
-                }
-            }
+        for key in self.axes.cells() {
+            check_cell(&key)?;
+            check_memory(&key, Grid::new(key.size, self.spacing)?)?;
         }
         Ok(())
     }
 }
 
-/// Refuses a mesh whose two copies (helper's slot and main's render buffer) would not fit in the
-/// machine's available memory.
-fn check_memory(grid: Grid) -> Result<(), InputError> {
-    let need = 3 * Mesh::bytes(grid) as u64;
+/// Refuses a cell the loops cannot run, naming the field: a helper count the threading, normals
+/// or size cannot split into, or `lookup` where one frame would take over a second. The lists
+/// are crossed, so one bad pair would otherwise fail cells mid-sweep.
+fn check_cell(key: &CellKey) -> Result<(), InputError> {
+    if let (Some(helpers), Some(threading)) = (key.helpers, key.threading) {
+        check_helpers(helpers, key.mode, threading, key.normals, key.size)?;
+        check_depth(key.depth.unwrap_or(1), threading)?;
+    }
+    if key.normals == NormalMethod::Lookup
+        && normals::lookup_work(key.size) > normals::LOOKUP_MAX_WORK
+    {
+        return Err(InputError(format!(
+            "normals: `lookup` at size {} would take over a second per frame \
+             (the paper's O(n²) search); use sizes <= {} with lookup",
+            key.size,
+            normals::lookup_max_size()
+        )));
+    }
+    Ok(())
+}
+
+/// Refuses a cell whose meshes (the ring's slots and the main thread's render buffer, with one
+/// to spare) would not fit in the machine's available memory.
+fn check_memory(key: &CellKey, grid: Grid) -> Result<(), InputError> {
+    let need = (key.depth.unwrap_or(1) + 2) as u64 * Mesh::bytes(grid) as u64;
     if let Some(avail) = available_memory() {
         if need > avail {
             return Err(InputError(format!(

@@ -2,6 +2,7 @@
 //! tell-tale of where a VM's two vCPUs sit right now (near or far from each other).
 
 use crate::affinity;
+use crate::stats::{self, quantile};
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
@@ -81,13 +82,12 @@ pub fn round_trip(a: usize, b: usize, batches: usize) -> RoundTrip {
             start = Instant::now();
         }
     });
-    per_trip.sort_by(f64::total_cmp);
-    let pct = |p: f64| per_trip[((per_trip.len() - 1) as f64 * p).round() as usize];
+    let per_trip = stats::sorted(&per_trip);
     RoundTrip {
         cores: [a, b],
-        median_ns: pct(0.5),
-        p99_ns: pct(0.99),
-        min_ns: per_trip[0],
+        median_ns: quantile(&per_trip, 0.5),
+        p99_ns: quantile(&per_trip, 0.99),
+        min_ns: quantile(&per_trip, 0.0),
         batches: per_trip.len(),
         pinned,
     }

@@ -3,8 +3,9 @@
 
 use crate::affinity;
 use crate::crosscore;
-use crate::measure::quantile;
-use crate::sync::{Handoff, Released, SyncMethod};
+use crate::sched;
+use crate::stats::{self, quantile};
+use crate::sync::{Free, Handoff, MailboxOut, Policy, SyncMethod};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -21,35 +22,154 @@ pub struct LatencyRow {
     pub main_core: usize,
     /// Helper's core (equal to `main_core` on one core).
     pub helper_core: usize,
-    /// Median round trip (ns).
+    /// Median round trip (ns) over batches of round trips timed with one clock read per batch:
+    /// the central figure, free of the clock's own cost (absent in files from before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub batched_ns: Option<f64>,
+    /// Median round trip (ns), each trip timed on its own (clock reads included).
     pub median_ns: f64,
-    /// 99th percentile round trip (ns).
+    /// 99th percentile round trip (ns), each trip timed on its own.
     pub p99_ns: f64,
     /// Round trips timed (fewer than asked when the row's time budget ran out).
     pub samples: usize,
+    /// CPU time both threads spent per round trip (ns; each thread's CPU clock over its trips):
+    /// a method that waits by polling shows about the wall time per thread, one that sleeps
+    /// far less. Absent for the ping-pong and where the thread CPU clock is unavailable.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cpu_ns: Option<f64>,
     /// Whether both pins held.
     pub pinned: bool,
 }
 
 impl LatencyRow {
-    fn from_samples(
-        method: &str,
-        main: usize,
-        helper: usize,
-        mut ns: Vec<f64>,
-        pinned: bool,
-    ) -> Self {
-        ns.sort_by(f64::total_cmp);
+    fn from_samples(method: &str, main: usize, helper: usize, ns: Vec<f64>, pinned: bool) -> Self {
+        let ns = stats::sorted(&ns);
         LatencyRow {
             method: method.to_string(),
             main_core: main,
             helper_core: helper,
+            batched_ns: None,
             median_ns: quantile(&ns, 0.5),
             p99_ns: quantile(&ns, 0.99),
             samples: ns.len(),
+            cpu_ns: None,
             pinned,
         }
     }
+}
+
+/// The far side of a row: a thread pinned to `core` that runs `trip` until it returns `false`,
+/// then reports whether its pin held and its CPU time per trip.
+fn echo(
+    core: usize,
+    mut trip: impl FnMut() -> bool + Send + 'static,
+) -> std::thread::JoinHandle<(bool, Option<f64>)> {
+    std::thread::spawn(move || {
+        let pin = affinity::pin_current(core);
+        let (cpu0, mut trips) = (sched::thread_cpu_ns(), 0u64);
+        while trip() {
+            trips += 1;
+        }
+        let cpu = cpu0.zip(sched::thread_cpu_ns()).map(|(a, b)| b - a);
+        (pin.held, cpu.map(|ns| ns as f64 / trips.max(1) as f64))
+    })
+}
+
+/// Round trips per batch in the batched timing.
+pub const BATCH: u64 = 64;
+
+/// One side's timing of a row's round trips.
+#[derive(Default)]
+struct Timed {
+    /// Each trip timed on its own (ns).
+    per_trip: Vec<f64>,
+    /// Each batch's time ÷ its trips (ns).
+    batched: Vec<f64>,
+    /// The thread's CPU time per trip over both phases (ns).
+    cpu_ns: Option<f64>,
+}
+
+impl Timed {
+    /// The row, with the other side's CPU time per trip added to this side's.
+    fn row(
+        self,
+        name: &str,
+        cores: (usize, usize),
+        other_cpu: Option<f64>,
+        pinned: bool,
+    ) -> LatencyRow {
+        let batched = stats::sorted(&self.batched);
+        LatencyRow {
+            batched_ns: (!batched.is_empty()).then(|| quantile(&batched, 0.5)),
+            cpu_ns: self.cpu_ns.zip(other_cpu).map(|(a, b)| a + b),
+            ..LatencyRow::from_samples(name, cores.0, cores.1, self.per_trip, pinned)
+        }
+    }
+}
+
+/// Runs `trip(i, deadline)` (round trip i, from 1; `false` when it failed) for a warm-up, then
+/// `samples` trips timed one by one (for the quantiles), then about as many in batches of
+/// [`BATCH`] with one clock read per batch (for the median); each phase within half the row's
+/// budget.
+fn time_trips(samples: usize, mut trip: impl FnMut(u64, Instant) -> bool) -> Timed {
+    let timeout = Duration::from_secs(10);
+    let mut t = Timed::default();
+    let mut i = 0u64;
+    let mut next = |deadline: Instant| {
+        i += 1;
+        trip(i, deadline)
+    };
+    // The first trips warm caches and the scheduler; they are not kept.
+    for _ in 0..16 {
+        if !next(Instant::now() + timeout) {
+            return t;
+        }
+    }
+    let cpu0 = sched::thread_cpu_ns();
+    let mut trips = 0u64;
+    let start = Instant::now();
+    while t.per_trip.len() < samples {
+        let t0 = Instant::now();
+        if !next(t0 + timeout) {
+            return t;
+        }
+        t.per_trip.push(t0.elapsed().as_nanos() as f64);
+        trips += 1;
+        if start.elapsed() > ROW_BUDGET / 2 {
+            break;
+        }
+    }
+    let start = Instant::now();
+    let batches = (samples as u64).div_ceil(BATCH).max(1);
+    for _ in 0..batches {
+        let t0 = Instant::now();
+        for _ in 0..BATCH {
+            if !next(t0 + timeout) {
+                return t;
+            }
+        }
+        t.batched
+            .push(t0.elapsed().as_nanos() as f64 / BATCH as f64);
+        trips += BATCH;
+        if start.elapsed() > ROW_BUDGET / 2 {
+            break;
+        }
+    }
+    t.cpu_ns = cpu0
+        .zip(sched::thread_cpu_ns())
+        .map(|(a, b)| (b - a) as f64 / trips.max(1) as f64);
+    t
+}
+
+/// What one clock read costs on this machine (ns): `Instant::now()` called in a tight loop.
+pub fn clock_read_ns() -> f64 {
+    let reads = 200_000u32;
+    let start = Instant::now();
+    let mut last = start;
+    for _ in 0..reads {
+        last = std::hint::black_box(Instant::now());
+    }
+    (last - start).as_nanos() as f64 / f64::from(reads)
 }
 
 /// Times `samples` hand-off round trips: the main thread releases the slot, the helper sees
@@ -60,56 +180,108 @@ pub fn handoff_round_trip(
     helper: usize,
     samples: usize,
 ) -> LatencyRow {
-    let handoff: Arc<dyn Handoff> = Arc::from(method.handoff());
+    let handoff: Arc<dyn Handoff> = Arc::from(method.handoff(1));
     let timeout = Duration::from_secs(10);
-    let echo = {
+    let far = {
         let handoff = Arc::clone(&handoff);
-        std::thread::spawn(move || {
-            let pin = affinity::pin_current(helper);
-            loop {
+        echo(helper, move || {
+            let free = handoff.wait_free(Instant::now() + timeout);
+            let go = free == Ok(Free::Slot);
+            if go {
                 handoff.publish();
-                match handoff.wait_released(Instant::now() + timeout) {
-                    Ok(Released::Next) => {}
-                    Ok(Released::Shutdown) | Err(_) => return pin.held,
-                }
             }
+            go
         })
     };
-    let (ns, main_held) = std::thread::scope(|s| {
+    let (timed, main_held) = std::thread::scope(|s| {
         s.spawn(|| {
             let pin = affinity::pin_current(main);
-            let mut ns = Vec::with_capacity(samples);
-            let start = Instant::now();
-            let mut ok = handoff.wait_published(start + timeout).is_ok();
-            // The first trips warm caches and the scheduler; they are not kept.
-            let warmup = 16;
-            let mut trip = 0;
-            while ok && ns.len() < samples {
-                let t0 = Instant::now();
-                handoff.release();
-                ok = handoff.wait_published(t0 + timeout).is_ok();
-                if trip >= warmup {
-                    ns.push(t0.elapsed().as_nanos() as f64);
-                }
-                trip += 1;
-                if start.elapsed() > ROW_BUDGET && !ns.is_empty() {
-                    break;
-                }
+            let mut timed = Timed::default();
+            if handoff.wait_published(0, Instant::now() + timeout).is_ok() {
+                timed = time_trips(samples, |i, deadline| {
+                    handoff.release();
+                    handoff.wait_published(i, deadline).is_ok()
+                });
             }
-            (ns, pin.held)
+            (timed, pin.held)
         })
         .join()
         .unwrap_or_default()
     });
     handoff.shutdown();
-    let helper_held = echo.join().unwrap_or(false);
-    LatencyRow::from_samples(method.name(), main, helper, ns, main_held && helper_held)
+    let (helper_held, helper_cpu) = far.join().unwrap_or((false, None));
+    timed.row(
+        method.name(),
+        (main, helper),
+        helper_cpu,
+        main_held && helper_held,
+    )
 }
 
-/// The raw floor: one cache line bounced between the two cores, each trip timed.
+/// Times `samples` round trips through two `latest` mailboxes of `method`, one each way: the
+/// main thread publishes a number, the helper takes it and publishes it back, both polling
+/// with a yield. What a mailbox adds to a mesh's age when the reader looks right away.
+pub fn mailbox_round_trip(
+    method: SyncMethod,
+    main: usize,
+    helper: usize,
+    samples: usize,
+) -> Option<LatencyRow> {
+    let (mut to_helper, mut from_main) = method.mailbox(&0u64)?;
+    let (mut to_main, mut from_helper) = method.mailbox(&0u64)?;
+    let timeout = Duration::from_secs(10);
+    let take = |out: &mut dyn MailboxOut<u64>, want: u64, deadline: Instant| loop {
+        if out.update() && *out.buffer() >= want {
+            return *out.buffer();
+        }
+        if Instant::now() >= deadline {
+            return u64::MAX;
+        }
+        std::thread::yield_now();
+    };
+    let far = echo(helper, move || {
+        let v = take(&mut *from_main, 1, Instant::now() + timeout);
+        if v != u64::MAX {
+            *to_main.buffer() = v;
+            to_main.publish();
+        }
+        v != u64::MAX
+    });
+    let (timed, main_held) = std::thread::scope(|s| {
+        s.spawn(|| {
+            let pin = affinity::pin_current(main);
+            let timed = time_trips(samples, |i, deadline| {
+                *to_helper.buffer() = i;
+                to_helper.publish();
+                take(&mut *from_helper, i, deadline) == i
+            });
+            *to_helper.buffer() = u64::MAX;
+            to_helper.publish();
+            (timed, pin.held)
+        })
+        .join()
+        .unwrap_or_default()
+    });
+    let (helper_held, helper_cpu) = far.join().unwrap_or((false, None));
+    let name = format!("{} latest", method.name());
+    Some(timed.row(&name, (main, helper), helper_cpu, main_held && helper_held))
+}
+
+/// The raw floor: one cache line bounced between the two cores, in batches (the median) and
+/// each trip timed (the quantiles).
 pub fn ping_pong(main: usize, helper: usize, samples: usize) -> LatencyRow {
     let trips = crosscore::round_trip_samples(main, helper, samples);
-    LatencyRow::from_samples("ping-pong", main, helper, trips.ns, trips.pinned)
+    let batched = crosscore::round_trip(main, helper, (samples / 200).max(10));
+    LatencyRow {
+        batched_ns: Some(batched.median_ns),
+        ..LatencyRow::from_samples(
+            "ping-pong",
+            main,
+            helper,
+            trips.ns,
+            trips.pinned && batched.pinned,
+        )
+    }
 }
 
 /// Every method on one core (`a`,`a`) and across two (`a`,`b`), each placement led by its floor.
@@ -123,27 +295,53 @@ pub fn table(a: usize, b: usize, samples: usize) -> Vec<LatencyRow> {
         if main != helper {
             rows.push(ping_pong(main, helper, samples));
         }
-        for method in SyncMethod::ALL {
+        for method in SyncMethod::of_policy(Policy::Fifo) {
             rows.push(handoff_round_trip(method, main, helper, samples));
+        }
+        for method in SyncMethod::of_policy(Policy::Latest) {
+            rows.extend(mailbox_round_trip(method, main, helper, samples));
         }
     }
     rows
 }
 
-/// The rows as an aligned text table.
+/// The rows as an aligned text table: the batched median and its ratio to the same placement's
+/// batched floor, the per-trip median and p99, and the CPU time per trip.
 pub fn to_text(rows: &[LatencyRow]) -> String {
     let mut out = format!(
-        "{:<12} {:>5} {:>6} {:>12} {:>12} {:>8}\n",
-        "method", "main", "helper", "median ns", "p99 ns", "samples"
+        "{:<20} {:>5} {:>6} {:>11} {:>8} {:>11} {:>11} {:>11} {:>8}\n",
+        "method",
+        "main",
+        "helper",
+        "batched ns",
+        "x floor",
+        "median ns",
+        "p99 ns",
+        "CPU ns",
+        "samples"
     );
+    let floor = |r: &LatencyRow| {
+        rows.iter()
+            .find(|f| {
+                f.method == "ping-pong"
+                    && (f.main_core, f.helper_core) == (r.main_core, r.helper_core)
+            })
+            .and_then(|f| f.batched_ns)
+    };
+    let or_dash =
+        |v: Option<f64>, digits: usize| v.map_or("–".to_string(), |v| format!("{v:.digits$}"));
     for r in rows {
+        let ratio = r.batched_ns.zip(floor(r)).map(|(b, f)| b / f);
         out.push_str(&format!(
-            "{:<12} {:>5} {:>6} {:>12.0} {:>12.0} {:>8}{}\n",
+            "{:<20} {:>5} {:>6} {:>11} {:>8} {:>11.0} {:>11.0} {:>11} {:>8}{}\n",
             r.method,
             r.main_core,
             r.helper_core,
+            or_dash(r.batched_ns, 0),
+            or_dash(ratio, 2),
             r.median_ns,
             r.p99_ns,
+            or_dash(r.cpu_ns, 0),
             r.samples,
             if r.pinned { "" } else { "  (pin did not hold)" }
         ));

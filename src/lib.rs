@@ -2,16 +2,25 @@
 //! headless benchmark harness.
 
 pub mod affinity;
+pub mod balance;
+pub mod calibrate;
+pub mod cell;
 pub mod cli;
+pub mod commands;
 pub mod config;
 pub mod crosscore;
+pub mod doctor;
 pub mod frame_loop;
+pub mod input;
 pub mod latency;
 pub mod machine;
 pub mod measure;
+pub mod named;
 pub mod ocean;
 pub mod report;
 pub mod results;
+pub mod sched;
+pub mod stats;
 pub mod suggest;
 pub mod sweep;
 pub mod sync;

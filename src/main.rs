@@ -1,30 +1,39 @@
 //! The oceanbench binary: parses the command line, dispatches, maps errors to exit statuses
-//! (2 for bad input, 1 for a failure while running) and prints each error as one line.
+//! (2 for bad input, 1 for a failure while running, 130 when interrupted) and prints each error
+//! as one line.
 
 use clap::error::ErrorKind;
 use clap::Parser;
-use oceanbench::cli::{clap_line, execute, Cli};
+use oceanbench::cli::{clap_line, Cli};
+use oceanbench::commands::execute;
+use std::process::ExitCode;
 
-fn main() {
+fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
-        Err(err) => match err.kind() {
-            ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
-                let _ = err.print();
-                std::process::exit(0);
-            }
-            ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
-                let _ = err.print();
-                std::process::exit(2);
-            }
-            _ => {
-                eprintln!("oceanbench: {}", clap_line(&err));
-                std::process::exit(2);
-            }
-        },
+        Err(err) => {
+            let code = match err.kind() {
+                ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+                    let _ = err.print();
+                    0
+                }
+                ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+                    let _ = err.print();
+                    2
+                }
+                _ => {
+                    eprintln!("oceanbench: {}", clap_line(&err));
+                    2
+                }
+            };
+            return ExitCode::from(code);
+        }
     };
-    if let Err(e) = execute(cli) {
-        eprintln!("oceanbench: {e}");
-        std::process::exit(e.exit_code());
+    match execute(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("oceanbench: {e}");
+            ExitCode::from(e.exit_code())
+        }
     }
 }

@@ -1,66 +1,16 @@
 //! The results file: the interface between measuring and reporting. Tables, charts and
 //! comparisons are drawn from it alone.
 
+use crate::calibrate::{RowCalibration, Yardstick};
+pub use crate::cell::CellKey;
 use crate::config::{Level, SweepConfig};
 use crate::crosscore::RoundTrip;
-use crate::frame_loop::{Mode, Threading};
 use crate::machine::Machine;
 use crate::measure::Summary;
-use crate::ocean::{Kernel, NormalMethod};
-use crate::sync::SyncMethod;
+use crate::sched::TrialNoise;
 use crate::workload::Calibration;
 use serde::{Deserialize, Serialize};
-use std::path::Path;
-
-/// The parameters that identify a cell.
-#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub struct CellKey {
-    /// Mesh size N.
-    pub size: usize,
-    /// Workload index.
-    pub workload: usize,
-    /// serial, up or dp.
-    pub mode: Mode,
-    /// Hand-off method; `null` in serial.
-    pub sync: Option<SyncMethod>,
-    /// Helper threading; `null` in serial.
-    pub threading: Option<Threading>,
-    /// Normal method.
-    pub normals: NormalMethod,
-    /// Kernel.
-    pub kernel: Kernel,
-    /// Helper threads the mesh's rows were split among (1 in results written before helpers).
-    #[serde(default = "one_helper")]
-    pub helpers: usize,
-}
-
-fn one_helper() -> usize {
-    1
-}
-
-impl CellKey {
-    /// A short label such as `256 w2 dp atomic pool neighbors reference` (`h2` after the
-    /// threading when the mesh is split among two helpers).
-    pub fn label(&self) -> String {
-        let mut parts = vec![
-            format!("{}", self.size),
-            format!("w{}", self.workload),
-            self.mode.name().to_string(),
-        ];
-        if let Some(s) = self.sync {
-            parts.push(s.name().into());
-        }
-        if let Some(t) = self.threading {
-            parts.push(t.name().into());
-        }
-        if self.helpers != 1 {
-            parts.push(format!("h{}", self.helpers));
-        }
-        parts.push(self.normals.name().into());
-        parts.push(self.kernel.name().into());
-        parts.join(" ")
-    }
-}
+use std::path::{Path, PathBuf};
 
 /// The cores a cell ran on and whether the pins held.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -93,6 +43,57 @@ pub struct Cell {
     /// Why the cell failed, if it did.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
+    /// How the cell's workload level was set, and how far the machine had drifted when its
+    /// row started (absent in results from before per-row calibration).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub calibration: Option<RowCalibration>,
+    /// What disturbed the cell's trials (absent in results from before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise: Option<CellNoise>,
+}
+
+/// What disturbed a cell's trials, and what was done about it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CellNoise {
+    /// Each kept trial's run delay, preemptions and steal.
+    pub trials: Vec<TrialNoise>,
+    /// A trial whose run delay or steal took more than this share of its wall time is noisy.
+    pub threshold_percent: f64,
+    /// Noisy trials re-run and thrown away.
+    pub retries: usize,
+}
+
+impl CellNoise {
+    /// Kept trials that are still noisy (their retries ran out).
+    pub fn noisy_trials(&self) -> usize {
+        self.trials
+            .iter()
+            .filter(|t| t.is_noisy(self.threshold_percent))
+            .count()
+    }
+
+    /// The worst trial's largest share of the wall time a thread was kept off its core by
+    /// other tasks, in percent.
+    pub fn preempted_percent(&self) -> f64 {
+        self.worst(TrialNoise::preempted_percent)
+    }
+
+    /// The worst trial's largest steal of a pinned core, in percent of its wall time.
+    pub fn steal_percent(&self) -> f64 {
+        self.worst(TrialNoise::steal_percent)
+    }
+
+    /// Involuntary context switches of every thread over the kept trials.
+    pub fn involuntary_switches(&self) -> u64 {
+        self.trials
+            .iter()
+            .map(TrialNoise::involuntary_switches)
+            .sum()
+    }
+
+    fn worst(&self, share: fn(&TrialNoise) -> f64) -> f64 {
+        self.trials.iter().map(share).fold(0.0, f64::max)
+    }
 }
 
 /// A resolved workload level.
@@ -124,8 +125,12 @@ pub struct CalibrationRecord {
     pub workload: Calibration,
     /// Step times of the sizes that levels refer to.
     pub step_times: Vec<StepTime>,
-    /// Each level's microseconds and iterations.
+    /// Each level's microseconds and iterations at the start.
     pub levels: Vec<LevelRecord>,
+    /// The yardstick at the start: every size's step and the workload's speed, measured the
+    /// way each row measures them again (absent in results from before per-row calibration).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start: Option<Yardstick>,
 }
 
 /// The cross-core round trip at the start, between groups of cells, and at the end of a run.
@@ -168,7 +173,8 @@ pub struct Results {
     pub config: SweepConfig,
     /// Workload and step calibration.
     pub calibration: CalibrationRecord,
-    /// Cache-line round trip between the two cores, before and after.
+    /// Cache-line round trip between the two cores: before the first row, after every row and
+    /// after the last.
     pub round_trip: Placement,
     /// UTC time the run started (RFC 3339).
     pub started: String,
@@ -177,20 +183,51 @@ pub struct Results {
     pub finished: Option<String>,
     /// Every finished cell, in the order run.
     pub cells: Vec<Cell>,
+    /// What `doctor` found before the run (absent when it was not run).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub doctor: Option<crate::doctor::Report>,
+    /// Balance points found (`oceanbench balance`, or a sweep with a `balance` key).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub balance: Vec<crate::balance::BalanceEntry>,
+    /// Balance searches a sweep could not complete, and why.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub balance_failures: Vec<String>,
+}
+
+/// Why a results file could not be read; each names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file could not be read.
+    #[error("results {}: {source}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// What the OS said.
+        source: std::io::Error,
+    },
+    /// The file is not a results file.
+    #[error("{}: not an oceanbench results file: {source}", path.display())]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// What the parser said.
+        source: serde_json::Error,
+    },
 }
 
 impl Results {
     /// Reads a results file, or the `results.json` inside a results directory.
-    pub fn load(path: &Path) -> Result<Results, String> {
-        let file = if path.is_dir() {
+    pub fn load(path: &Path) -> Result<Results, LoadError> {
+        let path = if path.is_dir() {
             path.join("results.json")
         } else {
             path.to_path_buf()
         };
-        let text = std::fs::read_to_string(&file)
-            .map_err(|e| format!("results {}: {e}", file.display()))?;
-        serde_json::from_str(&text)
-            .map_err(|e| format!("{}: not an oceanbench results file: {e}", file.display()))
+        let text = match std::fs::read_to_string(&path) {
+            Ok(text) => text,
+            Err(source) => return Err(LoadError::Read { path, source }),
+        };
+        serde_json::from_str(&text).map_err(|source| LoadError::Parse { path, source })
     }
 
     /// The cell with `key`, if it was measured.

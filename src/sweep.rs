@@ -1,111 +1,61 @@
-//! Expands a config into cells, calibrates the workload levels, runs every cell's trials and
-//! hands each finished cell to a sink (which persists it) before starting the next.
+//! Expands a config into cells, calibrates the workload levels, runs each row's trials
+//! interleaved, and hands the results to an [`Observer`] after every row (the sweep command
+//! rewrites the results files there), so an interrupted sweep keeps every finished row.
 
-use crate::config::{InputError, SweepConfig};
+use crate::balance::{self, BalanceError, BalanceSettings};
+use crate::calibrate::{self, Calibrate, RowCalibration, Yardstick};
+use crate::cell::{Dim, Value};
+use crate::config::{self, InputError, SweepConfig};
 use crate::crosscore;
 use crate::frame_loop::{self, LoopError, LoopSpec, Mode, Threading};
 use crate::machine::Machine;
-use crate::measure::{Summary, Trial};
-use crate::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
+use crate::measure::{Mailbox, Summary, Trial};
+use crate::ocean::{Grid, WaveSet};
 use crate::results::{
-    CalibrationRecord, Cell, CellKey, LevelRecord, Pins, Placement, Results, StepTime,
+    CalibrationRecord, Cell, CellKey, CellNoise, LevelRecord, Pins, Placement, Results, StepTime,
 };
-use crate::sync::SyncMethod;
+use crate::sched::TrialNoise;
+use crate::sync::{Policy, SyncMethod};
 use crate::workload::Calibration;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::{Duration, Instant, SystemTime};
+use std::time::{Duration, SystemTime};
 
-/// Every cell of the config in the order they run: size, workload, then normals, kernel, and
-/// per mode the methods; `serial` does not hand off, so it is one cell per size × workload.
+/// Every cell of the config in the order they run (see [`crate::cell::Axes::cells`]).
 pub fn cells(config: &SweepConfig) -> Vec<CellKey> {
-    let mut out = Vec::new();
-    for &size in &config.sizes {
-        for &workload in &config.workloads {
-            for &normals in &config.normals {
-                for &kernel in &config.kernel {
-                    for &mode in &config.modes {
-                        let key = |sync, threading, helpers| CellKey {
-                            size,
-                            workload,
-                            mode,
-                            sync,
-                            threading,
-                            normals,
-                            kernel,
-                            helpers,
-                        };
-                        if mode == Mode::Serial {
-                            out.push(key(None, None, 1));
-                            continue;
-                        }
-                        for &helpers in &config.helpers {
-                            for &threading in &config.threading {
-                                for &sync in &config.sync {
-                                    out.push(key(Some(sync), Some(threading), helpers));
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    }
-    out
+    config.axes.cells()
 }
 
-/// Median single-thread step time of an N = `size` mesh with the reference kernel and
-/// `neighbors` normals: the yardstick `step_fraction` levels are given in.
-pub fn step_time_ms(size: usize, spacing: f32, waves: &WaveSet) -> f64 {
-    let grid = Grid::new(size, spacing).expect("sizes are validated before calibration");
-    let mut ocean = Ocean::new(
-        grid,
-        waves.clone(),
-        NormalMethod::Neighbors,
-        Kernel::Reference,
-    )
-    .expect("neighbors accepts every valid size");
-    let mut mesh = Mesh::new(grid);
-    ocean.step(0.0, &mut mesh);
-    let mut times = Vec::new();
-    let start = Instant::now();
-    for k in 1..=31u32 {
-        let t = Instant::now();
-        ocean.step(k as f32 / 60.0, &mut mesh);
-        times.push(t.elapsed().as_secs_f64() * 1e3);
-        if k >= 7 && start.elapsed() > Duration::from_millis(500) {
-            break;
-        }
-    }
-    times.sort_by(f64::total_cmp);
-    times[times.len() / 2]
-}
-
-/// Measures the workload speed and the step times the levels refer to, and resolves every level
-/// to iterations.
+/// Measures the workload speed and the yardstick (every listed size and every size a level
+/// refers to), and resolves every level to iterations.
 pub fn calibrate(config: &SweepConfig, waves: &WaveSet) -> CalibrationRecord {
     let workload = Calibration::measure(9);
-    let mut step_times: Vec<StepTime> = Vec::new();
+    let sizes = calibrate::yardstick_sizes(&config.axes.sizes, &config.workload_levels);
+    let start = Yardstick::measure(
+        &sizes,
+        config.spacing,
+        waves,
+        workload.sample_iterations,
+        7,
+        Duration::from_millis(500),
+    );
+    let step_times = config
+        .workload_levels
+        .iter()
+        .filter_map(|l| l.step_fraction.and(l.size))
+        .fold(Vec::<StepTime>::new(), |mut v, size| {
+            if !v.iter().any(|s| s.size == size) {
+                let median_ms = start.step_of(size).expect("level sizes are measured");
+                v.push(StepTime { size, median_ms });
+            }
+            v
+        });
     let levels = config
         .workload_levels
         .iter()
         .enumerate()
         .map(|(index, level)| {
-            let micros = match (level.micros, level.step_fraction, level.size) {
-                (Some(us), _, _) => us,
-                (None, Some(fraction), Some(size)) => {
-                    let ms = match step_times.iter().find(|s| s.size == size) {
-                        Some(s) => s.median_ms,
-                        None => {
-                            let median_ms = step_time_ms(size, config.spacing, waves);
-                            step_times.push(StepTime { size, median_ms });
-                            median_ms
-                        }
-                    };
-                    fraction * ms * 1e3
-                }
-                _ => unreachable!("levels are validated before calibration"),
-            };
+            let micros = calibrate::level_micros(level, |s| start.step_of(s));
             LevelRecord {
                 workload: index,
                 level: level.clone(),
@@ -118,6 +68,7 @@ pub fn calibrate(config: &SweepConfig, waves: &WaveSet) -> CalibrationRecord {
         workload,
         step_times,
         levels,
+        start: Some(start),
     }
 }
 
@@ -128,6 +79,20 @@ pub fn utc_now() -> String {
 
 /// Batches per cross-core measurement: about 50 ms on a far placement.
 const ROUND_TRIP_BATCHES: usize = 500;
+
+/// What a running sweep reports to whoever runs it; every method does nothing unless
+/// overridden (as criterion's `Report`).
+pub trait Observer {
+    /// A trial is about to start.
+    fn trial_starting(&mut self, _progress: Progress<'_>) {}
+
+    /// A row of cells finished, or the whole sweep (then `results.finished` is set): the
+    /// results so far, ready to be written.
+    fn row_finished(&mut self, _results: &Results) {}
+}
+
+/// An observer that wants to know nothing.
+impl Observer for () {}
 
 /// Progress of a sweep, for a progress bar.
 #[derive(Clone, Debug)]
@@ -160,6 +125,15 @@ impl Sweep {
         let before = (cores[0] != cores[1])
             .then(|| crosscore::round_trip(cores[0], cores[1], ROUND_TRIP_BATCHES));
         let calibration = calibrate(&config, &waves);
+        for l in &calibration.levels {
+            if l.micros > config.max_workload_micros() {
+                return Err(InputError(config::too_much_work(
+                    &format!("workload_levels[{}] (a step_fraction level)", l.workload),
+                    l.micros.round(),
+                    config.max_workload_micros(),
+                )));
+            }
+        }
         let keys = cells(&config);
         Ok(Sweep {
             results: Results {
@@ -174,6 +148,9 @@ impl Sweep {
                 started: utc_now(),
                 finished: None,
                 cells: Vec::new(),
+                doctor: None,
+                balance: Vec::new(),
+                balance_failures: Vec::new(),
             },
             waves,
             cores,
@@ -205,6 +182,44 @@ impl Sweep {
         })
     }
 
+    /// Finds each size's balance point for the sweep's first DP cell of that size (the first
+    /// listed value of every other dimension), reporting after each; a search that cannot
+    /// bracket a balance point is recorded as a failure, not the end of the sweep.
+    fn find_balance_points(
+        &mut self,
+        settings: &BalanceSettings,
+        observer: &mut impl Observer,
+    ) -> Result<(), LoopError> {
+        let axes = &self.results.config.axes;
+        let mut keys: Vec<CellKey> = Vec::new();
+        for &size in &axes.sizes {
+            let first = axes
+                .cells()
+                .into_iter()
+                .find(|k| k.size == size && k.mode == Mode::Dp);
+            if let Some(k) = first.and_then(|k| k.with(Dim::Workload, Value::Count(0))) {
+                keys.push(k);
+            }
+        }
+        for key in keys {
+            match balance::search(self, &key, settings) {
+                Ok(entry) => self.results.balance.push(entry),
+                Err(BalanceError::Interrupted) => return Err(LoopError::Interrupted),
+                Err(e) => self
+                    .results
+                    .balance_failures
+                    .push(format!("{}: {e}", key.label())),
+            }
+            observer.row_finished(&self.results);
+        }
+        Ok(())
+    }
+
+    /// The main and helper cores.
+    pub fn cores(&self) -> [usize; 2] {
+        self.cores
+    }
+
     /// The cells still to run.
     pub fn keys(&self) -> &[CellKey] {
         &self.keys
@@ -215,50 +230,76 @@ impl Sweep {
         Arc::clone(&self.stop)
     }
 
-    /// Runs the cells group by group, calling `on_progress` before every trial and `on_cell`
-    /// with the results after each group is persisted-ready.
+    /// The same sweep, stopped by `stop` instead of its own flag (a process-wide interrupt).
+    pub fn stopping_on(self, stop: Arc<AtomicBool>) -> Sweep {
+        Sweep { stop, ..self }
+    }
+
+    /// Runs the cells group by group, telling `observer` before every trial and after every
+    /// group.
     ///
-    /// A group is one row of Figure 5-1 (same size, workload, normals and kernel): its cells'
+    /// A group is one row of Figure 5-1 (the same value of every row dimension): its cells'
     /// trials run in rotation (A B C A B C ...) so slow drift, such as the vCPUs moving between
     /// near and far placements, hits every cell of the row alike. The cross-core round trip is
     /// measured again after every group.
-    pub fn run(
-        mut self,
-        mut on_progress: impl FnMut(Progress<'_>),
-        mut on_cell: impl FnMut(&Results),
-    ) -> Results {
+    pub fn run(mut self, observer: &mut impl Observer) -> Results {
         let keys = std::mem::take(&mut self.keys);
         let trials = self.results.config.trials as usize;
         let total = keys.len() * trials;
         let mut done = 0;
-        for group in keys.chunk_by(|a, b| {
-            (a.size, a.workload, a.normals, a.kernel) == (b.size, b.workload, b.normals, b.kernel)
-        }) {
-            let mut runs: Vec<CellRun> = group.iter().map(|k| self.start_cell(k)).collect();
+        for group in keys.chunk_by(|a, b| a.row() == b.row()) {
+            let (iterations, calibration) = self.calibrate_row(&group[0]);
+            let mut runs: Vec<CellRun> = group
+                .iter()
+                .map(|k| self.start_cell(k, iterations, calibration.clone()))
+                .collect();
             for _ in 0..trials {
                 for run in runs.iter_mut().filter(|r| r.error.is_none()) {
-                    on_progress(Progress {
+                    observer.trial_starting(Progress {
                         done,
                         total,
                         cell: &run.key,
                     });
-                    match frame_loop::run(&run.spec, &self.results.config.budget(), |_, _| {}) {
-                        Ok(lr) => run.record(lr),
-                        Err(LoopError::Interrupted) => return self.results,
-                        Err(e) => run.error = Some(e.to_string()),
+                    let config = &self.results.config;
+                    let mut retries_left = config.retry_noisy;
+                    loop {
+                        match frame_loop::run(&run.spec, &config.budget(), |_, _| {}) {
+                            Ok(lr)
+                                if retries_left > 0
+                                    && lr.noise.is_noisy(config.noise_threshold_percent) =>
+                            {
+                                retries_left -= 1;
+                                run.retries += 1;
+                            }
+                            Ok(lr) => {
+                                run.record(lr);
+                                break;
+                            }
+                            Err(LoopError::Interrupted) => return self.results,
+                            Err(e) => {
+                                run.error = Some(e.to_string());
+                                break;
+                            }
+                        }
                     }
                     done += 1;
                 }
             }
+            let threshold = self.results.config.noise_threshold_percent;
             self.results
                 .cells
-                .extend(runs.into_iter().map(CellRun::finish));
+                .extend(runs.into_iter().map(|r| r.finish(threshold)));
             if self.cores[0] != self.cores[1] {
                 let rt = crosscore::round_trip(self.cores[0], self.cores[1], ROUND_TRIP_BATCHES);
                 self.results.round_trip.during.push(rt);
             }
-            on_cell(&self.results);
+            observer.row_finished(&self.results);
             if self.stop.load(Ordering::Relaxed) {
+                return self.results;
+            }
+        }
+        if let Some(settings) = self.results.config.balance.clone() {
+            if let Err(LoopError::Interrupted) = self.find_balance_points(&settings, observer) {
                 return self.results;
             }
         }
@@ -270,40 +311,94 @@ impl Sweep {
             ));
         }
         self.results.finished = Some(utc_now());
-        on_cell(&self.results);
+        observer.row_finished(&self.results);
         self.results
     }
 
-    fn start_cell(&self, key: &CellKey) -> CellRun {
+    /// The workload iterations of a row's cells and how they were set: the yardstick is
+    /// measured again (step of the row's size and of the level's size, interleaved with the
+    /// workload), and a `step_fraction` level is re-derived from it unless the config says
+    /// `once`. `None` for results that predate the start yardstick (a resumed old sweep).
+    fn calibrate_row(&self, key: &CellKey) -> (u64, Option<RowCalibration>) {
         let config = &self.results.config;
-        let iterations = self.results.calibration.levels[key.workload].iterations;
-        let helper_core = match key.mode {
+        let at_start = &self.results.calibration.levels[key.workload];
+        let Some(start) = &self.results.calibration.start else {
+            return (at_start.iterations, None);
+        };
+        let level = &config.workload_levels[key.workload];
+        let sizes = calibrate::yardstick_sizes(&[key.size], [level]);
+        let row = Yardstick::measure(
+            &sizes,
+            config.spacing,
+            &self.waves,
+            self.results.calibration.workload.sample_iterations,
+            5,
+            Duration::from_millis(50),
+        );
+        let (micros, iterations) = match (config.calibrate, level.step_fraction) {
+            (Calibrate::Row, Some(_)) => {
+                let micros = calibrate::level_micros(level, |s| row.step_of(s));
+                let iterations = (micros * 1e3 / row.ns_per_iteration).round() as u64;
+                (micros, iterations)
+            }
+            _ => (at_start.micros, at_start.iterations),
+        };
+        let calibration = RowCalibration {
+            calibrate: config.calibrate,
+            step_ms_at_start: start.step_of(key.size).unwrap_or(f64::NAN),
+            step_ms_in_row: row.step_of(key.size).unwrap_or(f64::NAN),
+            ns_per_iteration_at_start: start.ns_per_iteration,
+            ns_per_iteration_in_row: row.ns_per_iteration,
+            level_micros: micros,
+        };
+        (iterations, Some(calibration))
+    }
+
+    /// The core of the helper (helper 0, with several) in `mode`.
+    fn helper_core(&self, mode: Mode) -> usize {
+        match mode {
             Mode::Dp => self.cores[1],
             _ => self.cores[0],
-        };
-        let spec = LoopSpec {
+        }
+    }
+
+    /// The loop of cell `key` with `iterations` of workload per frame, on this sweep's cores.
+    pub fn loop_spec(&self, key: &CellKey, iterations: u64) -> LoopSpec {
+        let config = &self.results.config;
+        LoopSpec {
             grid: Grid::new(key.size, config.spacing).expect("validated"),
             waves: self.waves.clone(),
             normals: key.normals,
             kernel: key.kernel,
             mode: key.mode,
+            policy: key.policy.unwrap_or(Policy::Fifo),
             sync: key.sync.unwrap_or(SyncMethod::Atomic),
             threading: key.threading.unwrap_or(Threading::Pool),
             workload_iterations: iterations,
+            depth: key.depth.unwrap_or(1),
+            consume: key.consume,
             main_core: self.cores[0],
-            helper_core,
-            helpers: key.helpers,
-            // In up every helper shares the main core; in dp they cycle through the allowed
-            // cores from the configured helper core on.
-            helper_cores: match key.mode {
-                Mode::Dp => frame_loop::cycle_cores(helper_core, key.helpers),
-                _ => Vec::new(),
-            },
+            helper_cores: frame_loop::helper_cores(
+                key.mode,
+                self.cores[0],
+                self.helper_core(key.mode),
+                key.helpers.unwrap_or(1),
+            ),
             time_step: config.time_step,
             timeout: Duration::from_secs_f64(config.timeout_seconds),
             stop: Some(Arc::clone(&self.stop)),
             stall_at_frame: config.inject_stall_at_frame,
-        };
+        }
+    }
+
+    fn start_cell(
+        &self,
+        key: &CellKey,
+        iterations: u64,
+        calibration: Option<RowCalibration>,
+    ) -> CellRun {
+        let spec = self.loop_spec(key, iterations);
+        let helper_core = self.helper_core(key.mode);
         CellRun {
             key: key.clone(),
             pins: Pins {
@@ -314,6 +409,9 @@ impl Sweep {
             },
             spec,
             trials: Vec::new(),
+            noise: Vec::new(),
+            retries: 0,
+            calibration,
             pinned: true,
             error: None,
         }
@@ -325,6 +423,9 @@ struct CellRun {
     key: CellKey,
     spec: LoopSpec,
     trials: Vec<Trial>,
+    noise: Vec<TrialNoise>,
+    retries: usize,
+    calibration: Option<RowCalibration>,
     pinned: bool,
     pins: Pins,
     error: Option<String>,
@@ -333,24 +434,36 @@ struct CellRun {
 impl CellRun {
     fn record(&mut self, run: frame_loop::LoopRun) {
         self.pins.main_held = run.main_pin.held;
-        self.pins.helper_held = run.helper_pin.map(|p| p.held);
-        self.pinned &= run.main_pin.held && run.helper_pin.is_none_or(|p| p.held);
+        self.pins.helper_held =
+            (!run.helper_pins.is_empty()).then(|| run.helper_pins.iter().all(|p| p.held));
+        self.pinned &= run.pinned();
         self.trials.push(run.trial);
+        self.noise.push(run.noise);
     }
 
-    fn finish(self) -> Cell {
+    fn finish(self, threshold_percent: f64) -> Cell {
         let failed = self.error.is_some();
         Cell {
             workload_iterations: self.spec.workload_iterations,
             summary: if failed {
                 None
             } else {
-                Summary::of(&self.trials)
+                Summary::of(&self.trials).map(|s| Summary {
+                    mailbox: (self.key.policy == Some(Policy::Latest))
+                        .then(|| Mailbox::of(&self.trials)),
+                    ..s
+                })
             },
             pinned: self.pinned && !failed,
             pins: self.pins,
             error: self.error,
             key: self.key,
+            calibration: self.calibration,
+            noise: (!self.noise.is_empty()).then_some(CellNoise {
+                trials: self.noise,
+                threshold_percent,
+                retries: self.retries,
+            }),
         }
     }
 }

@@ -1,8 +1,13 @@
 //! Charts drawn from a real results file: the files exist, decode, and show every series.
 
+use oceanbench::cell::{Axes, Dim, Value};
+use oceanbench::config::{Level, SweepConfig};
+use oceanbench::frame_loop::Consume;
 use oceanbench::frame_loop::Mode;
 use oceanbench::report::chart::{self, ChartFormat, ChartOptions, CHARTS, CHART_SIZE};
 use oceanbench::results::Results;
+use oceanbench::sweep::Sweep;
+use oceanbench::sync::SyncMethod;
 use std::path::{Path, PathBuf};
 
 fn fixture() -> Results {
@@ -35,17 +40,24 @@ fn file(files: &[PathBuf], name: &str) -> PathBuf {
         .clone()
 }
 
+/// The charts a results file from before run-ahead depth and balance searches can draw.
+const OLD_CHARTS: [&str; 5] = ["figure-5-1", "relative", "sync", "frame-times", "breakdown"];
+
 #[test]
 fn fixture_charts_every_chart_in_both_formats() {
     let dir = tempfile::tempdir().unwrap();
-    let files = chart::draw(
-        &[fixture()],
-        dir.path(),
-        &[ChartFormat::Png, ChartFormat::Svg],
-    )
-    .unwrap();
-    assert_eq!(files.len(), CHARTS.len() * 2);
-    for name in CHARTS {
+    let options = ChartOptions {
+        formats: vec![ChartFormat::Png, ChartFormat::Svg],
+        ..ChartOptions::default()
+    };
+    let drawn = chart::draw_with(&[fixture()], dir.path(), &options).unwrap();
+    let files = drawn.files;
+    assert_eq!(files.len(), OLD_CHARTS.len() * 2);
+    let skipped: Vec<&str> = drawn.skipped.iter().map(|s| s.chart).collect();
+    assert_eq!(skipped, ["latency-vs-fps", "balance"]);
+    assert!(drawn.skipped[0].reason.contains("latency"));
+    assert!(drawn.skipped[1].reason.contains("balance"));
+    for name in OLD_CHARTS {
         let (w, h) = png_size(&file(&files, &format!("{name}.png")));
         assert_eq!(w, CHART_SIZE.0, "{name}");
         assert!(h >= CHART_SIZE.1, "{name}");
@@ -135,7 +147,7 @@ fn missing_cells_still_chart_and_are_named() {
         &[ChartFormat::Png, ChartFormat::Svg],
     )
     .unwrap();
-    assert_eq!(files.len(), CHARTS.len() * 2);
+    assert_eq!(files.len(), OLD_CHARTS.len() * 2);
     let figure = svg_text(&file(&files, "figure-5-1.svg"));
     assert!(figure.contains("missing"), "{figure}");
     assert!(figure.contains("40×40 w0 DP"), "{figure}");
@@ -191,10 +203,46 @@ fn a_chosen_cell_drives_the_single_cell_charts() {
     let dir = tempfile::tempdir().unwrap();
     let options = ChartOptions {
         formats: vec![ChartFormat::Svg],
-        size: Some(16),
-        workload: Some(0),
+        select: vec![
+            (Dim::Size, Value::Count(16)),
+            (Dim::Workload, Value::Count(0)),
+        ],
     };
     let drawn = chart::draw_with(&[fixture()], dir.path(), &options).unwrap();
     let text = svg_text(&file(&drawn.files, "breakdown.svg"));
     assert!(text.contains("16×16 mesh, workload 0"), "{text}");
+}
+
+#[test]
+fn run_ahead_is_charted_as_fps_against_latency() {
+    let config = SweepConfig {
+        name: "pipeline".into(),
+        axes: Axes {
+            sizes: vec![16],
+            workloads: vec![0],
+            modes: vec![Mode::Up],
+            sync: vec![SyncMethod::Atomic],
+            depth: vec![1, 2],
+            consume: vec![Consume::Copy, Consume::Handle],
+            ..Axes::default()
+        },
+        trials: 1,
+        warmup_frames: 2,
+        min_frames: 10,
+        min_seconds: 0.0,
+        workload_levels: vec![Level::micros(0.0)],
+        ..SweepConfig::default()
+    };
+    let results = Sweep::prepare(config).unwrap().run(&mut ());
+    let dir = tempfile::tempdir().unwrap();
+    let files = chart::draw(&[results], dir.path(), &[ChartFormat::Svg]).unwrap();
+    let text = svg_text(&file(&files, "latency-vs-fps.svg"));
+    for series in [
+        "UP (1 core) atomic copy",
+        "UP (1 core) atomic handle",
+        "d1",
+        "d2",
+    ] {
+        assert!(text.contains(series), "no {series:?}");
+    }
 }

@@ -39,7 +39,7 @@ fn write(dir: &Path, name: &str, text: &str) -> String {
 #[test]
 fn bad_flags_exit_2_with_one_line() {
     assert_input_error(&["run", "--mode", "tri"], &["--mode", "serial, up, dp"]);
-    assert_input_error(&["run", "--sync", "futex"], &["--sync", "condvar-std"]);
+    assert_input_error(&["run", "--sync", "futexes"], &["--sync", "futex"]);
     assert_input_error(&["run", "--normals", "x"], &["lookup, neighbors, analytic"]);
     assert_input_error(&["run", "--size", "1"], &["size", "2 to"]);
     assert_input_error(&["run", "--size", "abc"], &["--size"]);
@@ -324,18 +324,21 @@ fn latency_lists_the_floor_and_every_method_on_each_placement() {
     let rows: Vec<serde_json::Value> =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let two_cores = oceanbench::affinity::allowed_cores().len() > 1;
-    assert_eq!(rows.len(), if two_cores { 13 } else { 6 });
-    for method in [
-        "atomic",
-        "spin",
-        "mutex",
-        "condvar",
-        "mutex-std",
-        "condvar-std",
-    ] {
+    use oceanbench::sync::{Policy, SyncMethod};
+    let methods: Vec<String> = SyncMethod::of_policy(Policy::Fifo)
+        .map(|m| m.name().to_string())
+        .chain(SyncMethod::of_policy(Policy::Latest).map(|m| format!("{m} latest")))
+        .collect();
+    let expected = if two_cores {
+        2 * methods.len() + 1
+    } else {
+        methods.len()
+    };
+    assert_eq!(rows.len(), expected);
+    for method in methods {
         let n = rows.iter().filter(|r| r["method"] == method).count();
         assert_eq!(n, if two_cores { 2 } else { 1 }, "{method}");
-        assert!(text.contains(method));
+        assert!(text.contains(&method));
     }
     if two_cores {
         assert!(text.contains("ping-pong"));
@@ -347,6 +350,9 @@ fn latency_lists_the_floor_and_every_method_on_each_placement() {
         );
         assert!(median > 0.0 && p99 >= median, "{r}");
         assert!(r["samples"].as_u64().unwrap() > 0);
+        if r["method"] != "ping-pong" && cfg!(target_os = "linux") {
+            assert!(r["cpu_ns"].as_f64().unwrap() > 0.0, "{r}");
+        }
     }
     assert_input_error(&["latency", "--samples", "0"], &["--samples"]);
 }

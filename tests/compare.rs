@@ -1,7 +1,8 @@
 //! Noise-aware comparisons on the quick fixture and on hand-made trials: verdicts, unmatched and
 //! failed cells, within-run ranking, errors and the three renderings.
 
-use oceanbench::report::compare::{self, CompareBy, CompareError, Comparison, Verdict};
+use oceanbench::cell::Dim;
+use oceanbench::report::compare::{self, CompareError, Comparison, Metric, Verdict};
 use oceanbench::results::{Cell, Results};
 use std::path::Path;
 
@@ -27,7 +28,7 @@ fn one_cell(results: &Results, trials: &[f64]) -> Results {
 #[test]
 fn fixture_against_itself_is_all_within_noise() {
     let r = fixture();
-    let c = compare::between(&r, &r, 5.0);
+    let c = compare::between(&r, &r, 5.0, Metric::Fps);
     assert_eq!(c.changes.len(), r.cells.len());
     assert!(c.changes.iter().all(|c| c.verdict == Verdict::WithinNoise));
     assert!(c.changes.iter().all(|c| c.change_pct == 0.0));
@@ -56,7 +57,7 @@ fn halved_cell_is_regressed_and_named() {
     s.fps /= 2.0;
     s.fps_trials.iter_mut().for_each(|f| *f /= 2.0);
 
-    let c = compare::between(&base, &new, 5.0);
+    let c = compare::between(&base, &new, 5.0, Metric::Fps);
     assert!(c.regressed());
     assert_eq!(c.count(Verdict::Regressed), 1);
     let first = &c.changes[0];
@@ -74,7 +75,7 @@ fn halved_cell_is_regressed_and_named() {
     assert!(line.starts_with("regressed") && line.contains("-50.0%"));
 
     // The other way round it is an improvement, and nothing regressed.
-    let back = compare::between(&new, &base, 5.0);
+    let back = compare::between(&new, &base, 5.0, Metric::Fps);
     assert!(!back.regressed());
     assert_eq!(back.count(Verdict::Improved), 1);
     assert!((back.changes[0].change_pct - 100.0).abs() < 1e-9);
@@ -85,7 +86,7 @@ fn overlapping_trials_are_within_noise() {
     let r = fixture();
     let base = one_cell(&r, &[100.0, 120.0, 80.0]);
     let new = one_cell(&r, &[110.0, 90.0, 115.0]);
-    let c = compare::between(&base, &new, 5.0);
+    let c = compare::between(&base, &new, 5.0, Metric::Fps);
     let ch = &c.changes[0];
     assert!((ch.change_pct - 5.0).abs() < 1e-9);
     assert!(ch.ci_low_pct < -5.0 && ch.ci_high_pct > 5.0);
@@ -93,7 +94,7 @@ fn overlapping_trials_are_within_noise() {
     assert!(!ch.single_trial);
     assert!(!c.regressed());
     // Seeded: the same inputs give the same interval.
-    assert_eq!(compare::between(&base, &new, 5.0), c);
+    assert_eq!(compare::between(&base, &new, 5.0, Metric::Fps), c);
 }
 
 #[test]
@@ -101,10 +102,10 @@ fn tight_trials_clear_the_threshold() {
     let r = fixture();
     let base = one_cell(&r, &[100.0, 101.0, 99.0]);
     let up = one_cell(&r, &[110.0, 111.0, 109.0]);
-    let c = compare::between(&base, &up, 5.0);
+    let c = compare::between(&base, &up, 5.0, Metric::Fps);
     assert_eq!(c.changes[0].verdict, Verdict::Improved);
     // The same +10% does not clear a 12% threshold.
-    let c = compare::between(&base, &up, 12.0);
+    let c = compare::between(&base, &up, 12.0, Metric::Fps);
     assert_eq!(c.changes[0].verdict, Verdict::WithinNoise);
 }
 
@@ -113,7 +114,7 @@ fn single_trial_uses_the_point_estimate_and_is_marked() {
     let r = fixture();
     let base = one_cell(&r, &[100.0]);
     let new = one_cell(&r, &[80.0, 81.0]);
-    let c = compare::between(&base, &new, 5.0);
+    let c = compare::between(&base, &new, 5.0, Metric::Fps);
     let ch = &c.changes[0];
     assert!(ch.single_trial);
     assert_eq!(ch.ci_low_pct, ch.change_pct);
@@ -133,7 +134,7 @@ fn unmatched_and_failed_cells_are_listed() {
     new.cells[0].error = Some("helper thread panicked".into());
     let failed = new.cells[0].key.label();
 
-    let c = compare::between(&base_less, &new, 5.0);
+    let c = compare::between(&base_less, &new, 5.0, Metric::Fps);
     assert_eq!(c.only_in_base, vec![gone_from_new.clone()]);
     assert_eq!(c.only_in_new, vec![gone_from_base.clone()]);
     assert_eq!(c.failed.len(), 1);
@@ -149,7 +150,7 @@ fn unmatched_and_failed_cells_are_listed() {
 #[test]
 fn within_by_sync_ranks_five_methods_per_group() {
     let r = fixture();
-    let c = compare::within(&r, CompareBy::Sync, "atomic", 5.0).unwrap();
+    let c = compare::within(&r, Dim::Sync, "atomic", 5.0, Metric::Fps).unwrap();
     let groups: Vec<_> = r
         .cells
         .iter()
@@ -191,7 +192,7 @@ fn within_by_mode_pairs_serial_with_every_threaded_cell() {
         .filter(|c| c.key.mode.name() == "serial")
         .count();
     let threaded = r.cells.len() - serial;
-    let c = compare::within(&r, CompareBy::Mode, "serial", 5.0).unwrap();
+    let c = compare::within(&r, Dim::Mode, "serial", 5.0, Metric::Fps).unwrap();
     assert_eq!(c.changes.len(), threaded);
     assert!(c
         .changes
@@ -199,7 +200,7 @@ fn within_by_mode_pairs_serial_with_every_threaded_cell() {
         .any(|c| c.label == "16 w0 atomic pool neighbors reference"
             && c.versus.as_deref() == Some("dp vs serial")));
     // up against dp pairs by the full key but mode, and serial against every up cell.
-    let c = compare::within(&r, CompareBy::Mode, "up", 5.0).unwrap();
+    let c = compare::within(&r, Dim::Mode, "up", 5.0, Metric::Fps).unwrap();
     let up = r.cells.iter().filter(|c| c.key.mode.name() == "up").count();
     assert_eq!(c.changes.len(), up * 2);
 }
@@ -207,7 +208,7 @@ fn within_by_mode_pairs_serial_with_every_threaded_cell() {
 #[test]
 fn bad_baselines_name_the_values_present() {
     let r = fixture();
-    let err = compare::within(&r, CompareBy::Sync, "futex", 5.0).unwrap_err();
+    let err = compare::within(&r, Dim::Sync, "futexes", 5.0, Metric::Fps).unwrap_err();
     assert!(matches!(err, CompareError::UnknownBaseline { .. }));
     let msg = err.to_string();
     assert!(!msg.contains('\n'));
@@ -218,7 +219,7 @@ fn bad_baselines_name_the_values_present() {
         "condvar",
         "mutex-std",
         "condvar-std",
-        "futex",
+        "futexes",
     ] {
         assert!(msg.contains(v), "{msg}");
     }
@@ -227,18 +228,18 @@ fn bad_baselines_name_the_values_present() {
     atomic_only
         .cells
         .retain(|c| c.key.sync.is_none_or(|s| s.name() != "spin"));
-    let err = compare::within(&atomic_only, CompareBy::Sync, "spin", 5.0).unwrap_err();
+    let err = compare::within(&atomic_only, Dim::Sync, "spin", 5.0, Metric::Fps).unwrap_err();
     assert!(matches!(err, CompareError::AbsentBaseline { .. }));
     assert!(err.to_string().contains("atomic") && !err.to_string().contains("spin,"));
 
-    let err = compare::within(&r, CompareBy::Normals, "neighbors", 5.0).unwrap_err();
+    let err = compare::within(&r, Dim::Normals, "neighbors", 5.0, Metric::Fps).unwrap_err();
     assert!(matches!(err, CompareError::NoAlternative { .. }));
 }
 
 #[test]
 fn json_round_trips() {
     let r = fixture();
-    let c = compare::within(&r, CompareBy::Sync, "atomic", 5.0).unwrap();
+    let c = compare::within(&r, Dim::Sync, "atomic", 5.0, Metric::Fps).unwrap();
     let back: Comparison = serde_json::from_str(&c.to_json()).unwrap();
     // serde_json's default float parsing may differ from the printed value in the last bit.
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(1.0);
@@ -250,7 +251,34 @@ fn json_round_trips() {
             (&a.label, &a.versus, a.verdict)
         );
         assert!(close(b.change_pct, a.change_pct) && close(b.ci_low_pct, a.ci_low_pct));
-        assert!(close(b.ci_high_pct, a.ci_high_pct) && close(b.new_fps, a.new_fps));
+        assert!(close(b.ci_high_pct, a.ci_high_pct) && close(b.new, a.new));
     }
     assert!(c.to_json().contains("\"verdict\": \"within-noise\""));
+}
+
+/// Waiting CPU is better lower: a cell that burns twice the CPU waiting regressed, half improved.
+#[test]
+fn waiting_cpu_is_compared_with_lower_better() {
+    let r = fixture();
+    let with_cpu = |cpu: &[f64]| {
+        let mut one = one_cell(&r, &[100.0, 101.0, 99.0]);
+        one.cells[0].summary.as_mut().unwrap().wait_cpu_ms_trials = cpu.to_vec();
+        one
+    };
+    let base = with_cpu(&[1.0, 1.02, 0.98]);
+    let more = compare::between(&base, &with_cpu(&[2.0, 2.04, 1.96]), 5.0, Metric::WaitCpu);
+    assert_eq!(more.changes[0].verdict, Verdict::Regressed);
+    assert!(more.regressed());
+    let less = compare::between(&base, &with_cpu(&[0.5, 0.51, 0.49]), 5.0, Metric::WaitCpu);
+    assert_eq!(less.changes[0].verdict, Verdict::Improved);
+    assert!(less.to_text().contains("waiting CPU ms"));
+    let fps = compare::between(&base, &with_cpu(&[2.0, 2.04, 1.96]), 5.0, Metric::Fps);
+    assert_eq!(
+        fps.changes[0].verdict,
+        Verdict::WithinNoise,
+        "FPS did not move"
+    );
+    // Results from before the CPU was recorded cannot be compared on it, and say so.
+    let old = compare::between(&r, &r, 5.0, Metric::WaitCpu);
+    assert!(old.changes.is_empty() && !old.failed.is_empty());
 }

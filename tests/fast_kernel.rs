@@ -47,13 +47,20 @@ fn fused_covers(waves: &WaveSet) -> bool {
 /// The two paths of the fast kernel on `isa`: the one `with_isa` picks (fused where it covers
 /// the waves, which this checks) and per-wave.
 fn paths(waves: &WaveSet, isa: Isa) -> [FastKernel; 2] {
-    let fast = FastKernel::with_isa(waves, isa);
-    let want = if fused_covers(waves) {
+    let default = FastKernel::with_isa(waves, isa);
+    let fused = if fused_covers(waves) {
         Path::Fused
     } else {
         Path::PerWave
     };
-    assert_eq!(fast.path(), want, "{waves:?}");
+    let want = if isa == Isa::Avx512 {
+        fused
+    } else {
+        Path::PerWave
+    };
+    assert_eq!(default.path(), want, "{isa:?} {waves:?}");
+    let fast = default.fused();
+    assert_eq!(fast.path(), fused, "{waves:?}");
     [fast.clone(), fast.per_wave()]
 }
 

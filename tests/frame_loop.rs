@@ -2,9 +2,9 @@
 //! exactly once and in order.
 
 use oceanbench::affinity;
-use oceanbench::frame_loop::{self, Budget, LoopSpec, Mode, Threading};
+use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
 use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, WaveSet};
-use oceanbench::sync::SyncMethod;
+use oceanbench::sync::{Policy, SyncMethod};
 use std::time::Duration;
 
 const FRAMES: u64 = 300;
@@ -17,18 +17,26 @@ fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMetho
         normals,
         kernel: Kernel::Reference,
         mode,
+        policy: Policy::Fifo,
         sync,
         threading,
         workload_iterations: 50,
+        depth: 1,
+        consume: Consume::Copy,
         main_core: cores[0],
-        helper_core: if mode == Mode::Dp { cores[1] } else { cores[0] },
-        helpers: 1,
-        helper_cores: Vec::new(),
+        helper_cores: with_helpers(mode, 1),
         time_step: 1.0 / 60.0,
         timeout: Duration::from_secs(20),
         stop: None,
         stall_at_frame: None,
     }
+}
+
+/// The cores of `helpers` helpers in `mode`, from the second allowed core on in dp.
+fn with_helpers(mode: Mode, helpers: usize) -> Vec<usize> {
+    let cores = affinity::allowed_cores();
+    let helper = if mode == Mode::Dp { cores[1] } else { cores[0] };
+    frame_loop::helper_cores(mode, cores[0], helper, helpers)
 }
 
 /// Every frame the main thread received: its index and a full copy of the render buffer.
@@ -40,7 +48,10 @@ fn frames(spec: &LoopSpec) -> Vec<(u64, Mesh)> {
     .unwrap_or_else(|e| {
         panic!(
             "{:?} {:?} {:?} x{}: {e}",
-            spec.mode, spec.sync, spec.threading, spec.helpers
+            spec.mode,
+            spec.sync,
+            spec.threading,
+            spec.helpers()
         )
     });
     assert_eq!(run.trial.frames.len() as u64, FRAMES);
@@ -71,7 +82,7 @@ fn threaded_meshes_are_bit_identical_to_serial_each_frame_once_in_order() {
         assert_ne!(serial[0].1.z, serial[1].1.z);
         for mode in modes() {
             for threading in [Threading::Pool, Threading::Spawn] {
-                for sync in SyncMethod::ALL {
+                for sync in SyncMethod::of_policy(Policy::Fifo) {
                     let got = frames(&spec(mode, sync, threading, normals));
                     assert_eq!(got.len(), serial.len());
                     for ((k, mesh), (sk, smesh)) in got.iter().zip(&serial) {
@@ -83,6 +94,144 @@ fn threaded_meshes_are_bit_identical_to_serial_each_frame_once_in_order() {
                     }
                 }
             }
+        }
+    }
+}
+
+/// Every depth × consumption × method × mode consumes the serial meshes, each frame once and in
+/// order; with `read`, every mode reads the same meshes (equal checksums).
+#[test]
+fn pipelined_meshes_are_bit_identical_to_serial_for_every_depth_and_consumption() {
+    const FEW: u64 = 40;
+    let collect = |spec: &LoopSpec| {
+        let mut seen = Vec::new();
+        let run = frame_loop::run(spec, &Budget::exact(FEW), |k, mesh| {
+            seen.push((k, mesh.clone()))
+        })
+        .unwrap_or_else(|e| {
+            panic!(
+                "{:?} {:?} d{} {:?}: {e}",
+                spec.mode, spec.sync, spec.depth, spec.consume
+            )
+        });
+        (seen, run)
+    };
+    for consume in [Consume::Copy, Consume::Read, Consume::Handle] {
+        let mut serial_spec = spec(
+            Mode::Serial,
+            SyncMethod::Atomic,
+            Threading::Pool,
+            NormalMethod::Analytic,
+        );
+        serial_spec.consume = consume;
+        let (serial, serial_run) = collect(&serial_spec);
+        assert_eq!(
+            serial_run.trial.checksum.is_some(),
+            consume == Consume::Read
+        );
+        for mode in modes() {
+            for sync in SyncMethod::of_policy(Policy::Fifo) {
+                for depth in 1..=3 {
+                    let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
+                    (s.depth, s.consume) = (depth, consume);
+                    let (got, run) = collect(&s);
+                    let what = format!("{mode:?} {sync:?} depth {depth} {consume:?}");
+                    let indices: Vec<u64> = got.iter().map(|(k, _)| *k).collect();
+                    assert_eq!(indices, (0..FEW).collect::<Vec<_>>(), "{what}");
+                    for ((k, mesh), (_, smesh)) in got.iter().zip(&serial) {
+                        assert!(mesh == smesh, "{what}: frame {k} differs");
+                    }
+                    assert_eq!(run.trial.checksum, serial_run.trial.checksum, "{what}");
+                    for f in &run.trial.frames {
+                        assert!(
+                            f.age_frames < depth as u32,
+                            "{what}: a frame aged {}",
+                            f.age_frames
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// With several helpers each band has its own ring, and frame k is consumed when every band has
+/// published it.
+#[test]
+fn split_meshes_run_ahead_too() {
+    let serial = frames(&spec(
+        Mode::Serial,
+        SyncMethod::Atomic,
+        Threading::Pool,
+        NormalMethod::Analytic,
+    ));
+    for mode in modes() {
+        for consume in [Consume::Read, Consume::Handle] {
+            let mut s = spec(
+                mode,
+                SyncMethod::Condvar,
+                Threading::Pool,
+                NormalMethod::Analytic,
+            );
+            (s.depth, s.consume) = (2, consume);
+            s.helper_cores = with_helpers(mode, 2);
+            let got = frames(&s);
+            for ((k, mesh), (_, smesh)) in got.iter().zip(&serial) {
+                assert!(mesh == smesh, "{mode:?} {consume:?}: frame {k} differs");
+            }
+        }
+    }
+}
+
+/// Frames tile the timeline: each runs from its start to the next one's, so a trial's frame
+/// times add up exactly to its wall time, and the parts plus the remainder make the frame.
+#[test]
+fn frame_times_add_up_to_the_wall_time() {
+    let mut all = vec![(Mode::Serial, Threading::Pool)];
+    for mode in modes() {
+        all.extend([(mode, Threading::Pool), (mode, Threading::Spawn)]);
+    }
+    for (mode, threading) in all {
+        let s = spec(mode, SyncMethod::Atomic, threading, NormalMethod::Analytic);
+        let budget = Budget {
+            warmup_frames: 3,
+            ..Budget::exact(25)
+        };
+        let trial = frame_loop::run(&s, &budget, |_, _| {}).unwrap().trial;
+        let sum: u64 = trial.frames.iter().map(|f| f.total_ns).sum();
+        assert_eq!(sum, trial.wall_ns, "{mode:?} {threading:?}");
+        for f in &trial.frames {
+            let main_parts = f.workload_ns + f.wait_ns + f.copy_ns + f.other_ns;
+            let parts = if mode == Mode::Serial {
+                main_parts + f.step_ns
+            } else {
+                main_parts
+            };
+            assert_eq!(parts, f.total_ns, "{mode:?} {threading:?}: {f:?}");
+        }
+    }
+}
+
+#[test]
+fn depth_beyond_the_ring_or_with_spawn_is_refused() {
+    for (threading, depth, needle) in [
+        (Threading::Pool, 5, "1 to 4"),
+        (Threading::Pool, 0, "1 to 4"),
+        (Threading::Spawn, 2, "pool"),
+    ] {
+        let mut s = spec(
+            Mode::Up,
+            SyncMethod::Atomic,
+            threading,
+            NormalMethod::Analytic,
+        );
+        s.depth = depth;
+        match frame_loop::run(&s, &Budget::exact(1), |_, _| {}) {
+            Err(frame_loop::LoopError::Spec(e)) => {
+                let e = e.to_string();
+                assert!(e.starts_with("depth:") && e.contains(needle), "{e}");
+            }
+            other => panic!("expected a spec error, got {:?}", other.map(|_| ())),
         }
     }
 }
@@ -116,9 +265,9 @@ fn pins_are_recorded_for_both_threads() {
             NormalMethod::Analytic,
         );
         let run = frame_loop::run(&s, &Budget::exact(5), |_, _| {}).unwrap();
-        let helper = run.helper_pin.expect("threaded modes have a helper");
-        assert_eq!(helper.core, s.helper_core);
-        assert!(run.main_pin.held && helper.held);
+        assert_eq!(run.helper_pins.len(), 1, "threaded modes have a helper");
+        assert_eq!(run.helper_pins[0].core, s.helper_cores[0]);
+        assert!(run.pinned());
     }
 }
 
@@ -137,14 +286,11 @@ fn split_meshes_are_bit_identical_to_serial_each_frame_once_in_order() {
         serial_spec.kernel = kernel;
         let serial = frames(&serial_spec);
         for mode in modes() {
-            for sync in SyncMethod::ALL {
+            for sync in SyncMethod::of_policy(Policy::Fifo) {
                 for helpers in [2, 3] {
                     let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
                     s.kernel = kernel;
-                    s.helpers = helpers;
-                    if mode == Mode::Dp {
-                        s.helper_cores = frame_loop::cycle_cores(s.helper_core, helpers);
-                    }
+                    s.helper_cores = with_helpers(mode, helpers);
                     let got = frames(&s);
                     let indices: Vec<u64> = got.iter().map(|(k, _)| *k).collect();
                     assert_eq!(indices, (0..FRAMES).collect::<Vec<_>>());
@@ -170,20 +316,21 @@ fn every_helper_is_pinned_to_its_core() {
             Threading::Pool,
             NormalMethod::Analytic,
         );
-        s.helpers = 3;
+        s.helper_cores = with_helpers(mode, 3);
         if mode == Mode::Dp {
-            s.helper_cores = frame_loop::cycle_cores(s.helper_core, 3);
             // Cycling from the helper core on wraps through every allowed core.
-            assert_eq!(s.helper_cores[0], s.helper_core);
+            assert_eq!(s.helper_cores[0], cores[1]);
             assert!(s.helper_cores.iter().all(|c| cores.contains(c)));
+        } else {
+            assert_eq!(s.helper_cores, [cores[0]; 3]);
         }
         let run = frame_loop::run(&s, &Budget::exact(5), |_, _| {}).unwrap();
         assert_eq!(run.helper_pins.len(), 3);
         for (k, pin) in run.helper_pins.iter().enumerate() {
-            assert_eq!(pin.core, s.helper_core_of(k));
+            assert_eq!(pin.core, s.helper_cores[k]);
             assert!(pin.held, "helper {k} pinned to an allowed core holds");
         }
-        assert!(run.helper_pin.is_some_and(|p| p.held));
+        assert!(run.pinned());
     }
 }
 
@@ -191,9 +338,9 @@ fn every_helper_is_pinned_to_its_core() {
 fn unsupported_helper_counts_are_refused_with_the_reason() {
     let refused = |threading, normals, helpers| {
         let mut s = spec(Mode::Up, SyncMethod::Atomic, threading, normals);
-        s.helpers = helpers;
+        s.helper_cores = with_helpers(Mode::Up, helpers);
         match frame_loop::run(&s, &Budget::exact(1), |_, _| {}) {
-            Err(frame_loop::LoopError::Spec(msg)) => msg,
+            Err(frame_loop::LoopError::Spec(e)) => e.to_string(),
             other => panic!("expected a spec error, got {:?}", other.map(|_| ())),
         }
     };
@@ -205,4 +352,169 @@ fn unsupported_helper_counts_are_refused_with_the_reason() {
     assert!(msg.contains("row"), "{msg}");
     let msg = refused(Threading::Pool, NormalMethod::Analytic, 0);
     assert!(msg.contains("1 to"), "{msg}");
+}
+
+/// A threaded spec whose helpers stop producing at `frame`, with a short hand-off timeout.
+fn stalling(mode: Mode, threading: Threading, helpers: usize, frame: u64) -> LoopSpec {
+    let mut s = spec(mode, SyncMethod::Atomic, threading, NormalMethod::Analytic);
+    s.helper_cores = with_helpers(mode, helpers);
+    s.stall_at_frame = Some(frame);
+    s.timeout = Duration::from_millis(300);
+    s
+}
+
+/// The stalled helper never returns, so a loop that joined it would never return either.
+#[test]
+fn a_helper_stalled_mid_trial_times_out_and_is_left_behind() {
+    for mode in modes() {
+        for (threading, helpers) in [
+            (Threading::Pool, 1),
+            (Threading::Pool, 2),
+            (Threading::Spawn, 1),
+        ] {
+            let s = stalling(mode, threading, helpers, 2);
+            let mut observed = 0;
+            match frame_loop::run(&s, &Budget::exact(10), |_, _| observed += 1) {
+                Err(frame_loop::LoopError::Stalled { who, .. }) => {
+                    assert!(
+                        who.contains("main thread"),
+                        "{mode:?} {threading:?} x{helpers}: {who}"
+                    )
+                }
+                other => panic!("{mode:?} {threading:?} x{helpers}: {:?}", other.map(|_| ())),
+            }
+            assert_eq!(observed, 2, "frames before the stall are delivered");
+        }
+    }
+}
+
+/// A pool helper runs ahead into the frame after the last one (at depth 1, once the last frame
+/// is released); if it stalls there, the loop must not wait for it forever: either the shutdown
+/// reached it first, or the main thread gives up after the timeout and leaves it behind.
+#[test]
+fn a_helper_stalled_after_the_last_frame_is_left_behind() {
+    for mode in modes() {
+        for helpers in [1, 2] {
+            for depth in 1..=frame_loop::MAX_DEPTH {
+                // Whether the shutdown wins is a race: a few tries see both outcomes.
+                for _ in 0..3 {
+                    let mut s = stalling(mode, Threading::Pool, helpers, 3);
+                    s.depth = depth;
+                    let what = format!("{mode:?} x{helpers} depth {depth}");
+                    match frame_loop::run(&s, &Budget::exact(3), |_, _| {}) {
+                        Ok(run) => assert_eq!(run.trial.frames.len(), 3, "{what}"),
+                        Err(frame_loop::LoopError::Stalled { who, .. }) => {
+                            assert!(who.contains("helpers to stop"), "{what}: {who}")
+                        }
+                        Err(e) => panic!("{what}: {e}"),
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Every loop shape ends with `Interrupted`, the pool's helpers shut down by its `Drop`.
+#[test]
+fn a_raised_stop_flag_interrupts_every_loop() {
+    let mut loops = vec![(Mode::Serial, Threading::Pool, 1)];
+    for mode in modes() {
+        loops.extend([
+            (mode, Threading::Pool, 1),
+            (mode, Threading::Pool, 2),
+            (mode, Threading::Spawn, 1),
+        ]);
+    }
+    for (mode, threading, helpers) in loops {
+        let mut s = spec(mode, SyncMethod::Condvar, threading, NormalMethod::Analytic);
+        s.helper_cores = with_helpers(mode, helpers);
+        s.stop = Some(std::sync::Arc::new(std::sync::atomic::AtomicBool::new(
+            true,
+        )));
+        let mut observed = 0;
+        let got = frame_loop::run(&s, &Budget::exact(10), |_, _| observed += 1);
+        assert!(
+            matches!(got, Err(frame_loop::LoopError::Interrupted)),
+            "{mode:?} {threading:?} x{helpers}: {:?}",
+            got.map(|_| ())
+        );
+        assert!(
+            observed <= 1,
+            "{mode:?} {threading:?} x{helpers}: no frame after the stop"
+        );
+    }
+}
+
+/// Under `latest`, every mesh the main thread takes is the surface at the frame index it was
+/// computed for (bit for bit what a lone `Ocean` gives at that time), and the indices never
+/// decrease, whatever the helper dropped or the main thread took twice.
+#[test]
+fn latest_meshes_are_the_serial_mesh_of_their_index_and_indices_never_decrease() {
+    use oceanbench::ocean::Ocean;
+    for sync in SyncMethod::of_policy(Policy::Latest) {
+        for mode in modes() {
+            for consume in [Consume::Copy, Consume::Handle] {
+                let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
+                s.policy = Policy::Latest;
+                s.consume = consume;
+                let seen = frames(&s);
+                let indices: Vec<u64> = seen.iter().map(|(k, _)| *k).collect();
+                assert!(
+                    indices.windows(2).all(|w| w[0] <= w[1]),
+                    "{sync} {mode} {consume}: {indices:?}"
+                );
+                let mut ocean = Ocean::new(s.grid, s.waves.clone(), s.normals, s.kernel).unwrap();
+                let mut want = Mesh::new(s.grid);
+                for (k, mesh) in &seen {
+                    ocean.step((*k as f64 * s.time_step) as f32, &mut want);
+                    assert!(
+                        mesh == &want,
+                        "{sync} {mode} {consume}: the mesh taken for index {k} differs"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The policy's refusals, one line naming the field: a method that cannot serve the policy
+/// (with the list of those that can), and what `latest` has no use for.
+#[test]
+fn latest_refuses_fifo_methods_depth_helpers_and_spawn() {
+    let base = || {
+        let mut s = spec(
+            Mode::Up,
+            SyncMethod::Atomic,
+            Threading::Pool,
+            NormalMethod::Analytic,
+        );
+        s.policy = Policy::Latest;
+        s
+    };
+    let refused = |s: LoopSpec| s.check().unwrap_err().to_string();
+    let mut s = base();
+    s.sync = SyncMethod::Condvar;
+    let e = refused(s);
+    assert!(
+        e.starts_with("sync: `condvar`") && e.contains("atomic, triple-buffer"),
+        "{e}"
+    );
+    let mut s = spec(
+        Mode::Up,
+        SyncMethod::TripleBuffer,
+        Threading::Pool,
+        NormalMethod::Analytic,
+    );
+    s.policy = Policy::Fifo;
+    assert!(refused(s).starts_with("sync: `triple-buffer`"));
+    let mut s = base();
+    s.depth = 2;
+    assert!(refused(s).starts_with("depth: 2"));
+    let mut s = base();
+    s.helper_cores = with_helpers(Mode::Up, 2);
+    assert!(refused(s).starts_with("helpers: "));
+    let mut s = base();
+    s.threading = Threading::Spawn;
+    assert!(refused(s).starts_with("threading: "));
+    assert!(base().check().is_ok());
 }

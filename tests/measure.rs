@@ -1,6 +1,7 @@
 //! Frame statistics on known frame times, and the workload's determinism.
 
-use oceanbench::measure::{quantile, FrameRecord, Summary, Trial};
+use oceanbench::measure::{FrameRecord, Summary, Trial};
+use oceanbench::stats::quantile;
 use oceanbench::workload;
 
 fn trial(ms: &[u64]) -> Trial {
@@ -13,8 +14,10 @@ fn trial(ms: &[u64]) -> Trial {
                 wait_ns: m * 250_000,
                 copy_ns: 0,
                 step_ns: m * 500_000,
+                ..FrameRecord::default()
             })
             .collect(),
+        ..Trial::default()
     }
 }
 

@@ -93,6 +93,7 @@ fn lookup_refuses_grids_that_would_take_too_long() {
         NormalMethod::Lookup,
         Kernel::Reference,
     )
-    .unwrap_err();
+    .unwrap_err()
+    .to_string();
     assert!(err.contains("lookup") && err.contains("size <="), "{err}");
 }

@@ -1,18 +1,22 @@
 //! Sweep scheduling, persistence and failure handling, through the library.
 
+use oceanbench::cell::Axes;
 use oceanbench::config::{Level, SweepConfig};
 use oceanbench::frame_loop::Mode;
-use oceanbench::results::CellKey;
-use oceanbench::sweep::{self, Sweep};
+use oceanbench::results::{CellKey, Results};
+use oceanbench::sweep::{self, Observer, Progress, Sweep};
 use oceanbench::sync::SyncMethod;
 
 fn tiny(name: &str) -> SweepConfig {
     SweepConfig {
         name: name.into(),
-        sizes: vec![6, 8],
-        workloads: vec![0, 1],
-        modes: vec![Mode::Serial, Mode::Up],
-        sync: vec![SyncMethod::Atomic, SyncMethod::Condvar],
+        axes: Axes {
+            sizes: vec![6, 8],
+            workloads: vec![0, 1],
+            modes: vec![Mode::Serial, Mode::Up],
+            sync: vec![SyncMethod::Atomic, SyncMethod::Condvar],
+            ..Axes::default()
+        },
         trials: 3,
         warmup_frames: 1,
         min_frames: 3,
@@ -26,8 +30,15 @@ fn tiny(name: &str) -> SweepConfig {
 fn trials_of_a_row_run_in_rotation() {
     let config = tiny("rotation");
     let s = Sweep::prepare(config).unwrap();
-    let mut order: Vec<CellKey> = Vec::new();
-    let results = s.run(|p| order.push(p.cell.clone()), |_| {});
+    struct Order(Vec<CellKey>);
+    impl Observer for Order {
+        fn trial_starting(&mut self, p: Progress<'_>) {
+            self.0.push(p.cell.clone());
+        }
+    }
+    let mut seen = Order(Vec::new());
+    let results = s.run(&mut seen);
+    let order = seen.0;
     // Each row (size × workload) has serial + 2 UP cells, run A B C A B C A B C.
     assert_eq!(order.len(), 4 * 3 * 3);
     for row in order.chunks(9) {
@@ -63,16 +74,20 @@ fn cells_expand_serial_once_and_threaded_per_method() {
 
 #[test]
 fn a_stalled_hand_off_times_out_and_the_sweep_goes_on() {
+    let base = tiny("stall");
     let config = SweepConfig {
-        sizes: vec![6],
-        workloads: vec![0],
+        axes: Axes {
+            sizes: vec![6],
+            workloads: vec![0],
+            ..base.axes.clone()
+        },
         timeout_seconds: 0.3,
         inject_stall_at_frame: Some(2),
         trials: 1,
-        ..tiny("stall")
+        ..base
     };
     let started = std::time::Instant::now();
-    let results = Sweep::prepare(config).unwrap().run(|_| {}, |_| {});
+    let results = Sweep::prepare(config).unwrap().run(&mut ());
     assert!(started.elapsed().as_secs() < 30, "the process never hangs");
     assert!(results.finished.is_some());
     assert_eq!(results.cells.len(), 3);
@@ -93,25 +108,34 @@ fn an_interrupted_sweep_keeps_finished_rows_and_resumes_to_the_same_cells() {
     let config = tiny("resume");
     let all = sweep::cells(&config);
     let s = Sweep::prepare(config).unwrap();
-    let stop = s.stop_flag();
-    let mut saved = None;
-    let mut rows = 0;
-    let partial = s.run(
-        |_| {},
-        |r| {
-            rows += 1;
-            saved = Some(r.clone());
-            if rows == 2 {
-                stop.store(true, std::sync::atomic::Ordering::SeqCst);
+    /// Raises the stop flag after the second row, keeping what each row hands over.
+    struct StopAfterTwo {
+        stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
+        rows: usize,
+        saved: Option<Results>,
+    }
+    impl Observer for StopAfterTwo {
+        fn row_finished(&mut self, r: &Results) {
+            self.rows += 1;
+            self.saved = Some(r.clone());
+            if self.rows == 2 {
+                self.stop.store(true, std::sync::atomic::Ordering::SeqCst);
             }
-        },
-    );
+        }
+    }
+    let mut observer = StopAfterTwo {
+        stop: s.stop_flag(),
+        rows: 0,
+        saved: None,
+    };
+    let partial = s.run(&mut observer);
+    let saved = observer.saved;
     assert!(partial.finished.is_none());
     assert_eq!(partial.cells.len(), 6, "two rows of three cells kept");
     assert_eq!(saved.as_ref().unwrap().cells.len(), 6);
     let resumed = Sweep::resume(partial.clone()).unwrap();
     assert_eq!(resumed.keys().len(), all.len() - 6);
-    let done = resumed.run(|_| {}, |_| {});
+    let done = resumed.run(&mut ());
     assert!(done.finished.is_some());
     let mut got: Vec<&CellKey> = done.cells.iter().map(|c| &c.key).collect();
     let mut want: Vec<&CellKey> = all.iter().collect();

@@ -1,5 +1,7 @@
 //! The N×N grid, its structure-of-arrays vertex and normal storage, and its triangulation.
 
+use crate::input::InputError;
+
 /// Largest N accepted anywhere (a 4096² mesh is 400 MiB of vertices and normals in two copies).
 pub const MAX_SIZE: usize = 4096;
 
@@ -14,14 +16,16 @@ pub struct Grid {
 
 impl Grid {
     /// A grid of `n`×`n` vertices; rejects n < 2, n > MAX_SIZE and non-positive spacing.
-    pub fn new(n: usize, spacing: f32) -> Result<Self, String> {
+    pub fn new(n: usize, spacing: f32) -> Result<Self, InputError> {
         if !(2..=MAX_SIZE).contains(&n) {
-            return Err(format!("size: must be 2 to {MAX_SIZE}, got {n}"));
+            return Err(InputError(format!(
+                "size: must be 2 to {MAX_SIZE}, got {n}"
+            )));
         }
         if !(spacing.is_finite() && spacing > 0.0) {
-            return Err(format!(
+            return Err(InputError(format!(
                 "spacing: must be a finite number > 0, got {spacing}"
-            ));
+            )));
         }
         Ok(Grid { n, spacing })
     }

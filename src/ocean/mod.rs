@@ -10,27 +10,17 @@ pub use mesh::{Grid, Mesh, MeshRows};
 pub use normals::NormalMethod;
 pub use waves::{Wave, WaveSet};
 
+use crate::input::InputError;
 use normals::FaceNormals;
-use serde::{Deserialize, Serialize};
 
-/// Which implementation fills heights (and analytic normals).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-pub enum Kernel {
-    /// The straight port of section 4.2, kept as the oracle.
-    Reference,
-    /// Separable phase tables, half-angle powers and run-time selected vector code; the same
-    /// surface as `Reference`.
-    Fast,
-}
-
-impl Kernel {
-    /// The name used in configs, flags and results.
-    pub fn name(self) -> &'static str {
-        match self {
-            Kernel::Reference => "reference",
-            Kernel::Fast => "fast",
-        }
+crate::named! {
+    /// Which implementation fills heights (and analytic normals).
+    pub enum Kernel {
+        /// The straight port of section 4.2, kept as the oracle.
+        Reference,
+        /// Separable phase tables, half-angle powers and run-time selected vector code; the same
+        /// surface as `Reference`.
+        Fast,
     }
 }
 
@@ -53,16 +43,16 @@ impl Ocean {
         waves: WaveSet,
         normals: NormalMethod,
         kernel: Kernel,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, InputError> {
         if normals == NormalMethod::Lookup
             && normals::lookup_work(grid.n) > normals::LOOKUP_MAX_WORK
         {
-            return Err(format!(
+            return Err(InputError(format!(
                 "normals: `lookup` is O(n²) in vertices and would take over a second per frame at \
                  size {}; use size <= {} or normals `neighbors`/`analytic`",
                 grid.n,
                 normals::lookup_max_size()
-            ));
+            )));
         }
         // The fast kernel replaces the gathered neighbour list with a stencil; `lookup` stays
         // the paper's method whichever kernel runs.
@@ -83,14 +73,14 @@ impl Ocean {
 
     /// Whether `step_rows` can fill a band alone: only analytic normals are a function of the
     /// vertex's own x, y and t; face normals need the heights of the rows next to a band.
-    pub fn splits_into_rows(normals: NormalMethod) -> Result<(), String> {
+    pub fn splits_into_rows(normals: NormalMethod) -> Result<(), InputError> {
         match normals {
             NormalMethod::Analytic => Ok(()),
-            other => Err(format!(
+            other => Err(InputError(format!(
                 "helpers: more than one helper needs normals `analytic`; `{}` normals at a \
                  band's edge need the neighbouring band's heights (not supported yet)",
                 other.name()
-            )),
+            ))),
         }
     }
 

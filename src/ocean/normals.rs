@@ -4,28 +4,16 @@
 
 use super::mesh::{Grid, Mesh};
 use glam::Vec3;
-use serde::{Deserialize, Serialize};
 
-/// How vertex normals are computed each frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-pub enum NormalMethod {
-    /// The paper's original: for every vertex, a linear search of the triangle list (O(n²)).
-    Lookup,
-    /// A neighbour list built once; face normals recomputed and averaged every frame.
-    Neighbors,
-    /// The partial derivatives of the wave equation (section 3.5).
-    Analytic,
-}
-
-impl NormalMethod {
-    /// The name used in configs, flags and results.
-    pub fn name(self) -> &'static str {
-        match self {
-            NormalMethod::Lookup => "lookup",
-            NormalMethod::Neighbors => "neighbors",
-            NormalMethod::Analytic => "analytic",
-        }
+crate::named! {
+    /// How vertex normals are computed each frame.
+    pub enum NormalMethod {
+        /// The paper's original: for every vertex, a linear search of the triangle list (O(n²)).
+        Lookup,
+        /// A neighbour list built once; face normals recomputed and averaged every frame.
+        Neighbors,
+        /// The partial derivatives of the wave equation (section 3.5).
+        Analytic,
     }
 }
 

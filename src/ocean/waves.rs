@@ -55,6 +55,14 @@ pub enum WaveError {
     /// The set as a whole is wrong (file shape, number of waves).
     #[error("{0}")]
     Set(String),
+    /// A waves file could not be read or is wrong; names the file.
+    #[error("waves file {}: {problem}", path.display())]
+    File {
+        /// The file.
+        path: std::path::PathBuf,
+        /// What went wrong, reading or in the file.
+        problem: String,
+    },
 }
 
 impl Wave {
@@ -208,9 +216,12 @@ impl WaveSet {
 
     /// Reads a waves file.
     pub fn load(path: &Path) -> Result<Self, WaveError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| WaveError::Set(format!("waves file {}: {e}", path.display())))?;
-        Self::from_json(&text)
+        let file = |problem: String| WaveError::File {
+            path: path.to_path_buf(),
+            problem,
+        };
+        let text = std::fs::read_to_string(path).map_err(|e| file(e.to_string()))?;
+        Self::from_json(&text).map_err(|e| file(e.to_string()))
     }
 
     /// Height f(x, y, t) = Σ A·((sin S + 1)/2)^k, evaluated in f64 for use as an oracle.

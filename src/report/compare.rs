@@ -1,4 +1,5 @@
-//! Noise-aware comparisons of FPS: two runs cell by cell, or the values of one parameter against
+//! Noise-aware comparisons of FPS (or of the CPU time spent waiting): two runs cell by cell, or
+//! the values of one dimension against
 //! a baseline value inside one run.
 //!
 //! Each comparison is the change of the mean trial FPS, with a 95% percentile interval from a
@@ -6,15 +7,65 @@
 //! whole interval clears the threshold, so two noisy runs of the same code compare as "within
 //! noise" rather than as a coin flip.
 
-use crate::frame_loop::Mode;
-use crate::measure::quantile;
-use crate::ocean::{Kernel, NormalMethod};
+use crate::cell::{Dim, Value};
+use crate::report::shift::{self, BalanceShift};
 use crate::results::{Cell, CellKey, Results};
-use crate::sync::SyncMethod;
-use clap::ValueEnum;
+use crate::stats;
+use itertools::Itertools;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::fmt::Write;
+use strum::EnumMessage;
+
+/// Marks a verdict that rests on trials disturbed beyond their noise threshold.
+const NOISY: &str = "†";
+
+/// The footnote of [`NOISY`].
+const NOISY_NOTE: &str = "† rests on trials in which other tasks or the hypervisor took more than the noise threshold: re-run before trusting it";
+
+crate::named! {
+    /// What a comparison compares, trial by trial.
+    pub enum Metric {
+        /// Frames per second; higher is better.
+        Fps,
+        /// CPU time per frame every thread spent waiting, in ms; lower is better.
+        WaitCpu,
+    }
+}
+
+impl Metric {
+    /// The metric's per-trial values of a cell, or why it has none.
+    fn trials(self, cell: &Cell) -> Result<Vec<f64>, String> {
+        let Some(s) = &cell.summary else {
+            return Err(match &cell.error {
+                Some(e) => format!("{}: {e}", cell.key.label()),
+                None => format!("{}: no measurements", cell.key.label()),
+            });
+        };
+        let (values, ok): (Vec<f64>, fn(f64) -> bool) = match self {
+            // Older files may lack per-trial values; the headline FPS then stands as one trial.
+            Metric::Fps if s.fps_trials.is_empty() => (vec![s.fps], |f| f > 0.0),
+            Metric::Fps => (s.fps_trials.clone(), |f| f > 0.0),
+            Metric::WaitCpu => (s.wait_cpu_ms_trials.clone(), |c| c >= 0.0),
+        };
+        if !values.is_empty() && values.iter().all(|&v| v.is_finite() && ok(v)) {
+            Ok(values)
+        } else {
+            Err(format!("{}: no {} measured", cell.key.label(), self.unit()))
+        }
+    }
+
+    fn higher_is_better(self) -> bool {
+        self == Metric::Fps
+    }
+
+    fn unit(self) -> &'static str {
+        match self {
+            Metric::Fps => "FPS",
+            Metric::WaitCpu => "waiting CPU ms",
+        }
+    }
+}
 
 /// The threshold the CLI uses when none is given, in percent.
 pub const DEFAULT_THRESHOLD_PCT: f64 = 5.0;
@@ -22,78 +73,25 @@ pub const DEFAULT_THRESHOLD_PCT: f64 = 5.0;
 /// Resamples per bootstrap: enough for stable 2.5%/97.5% percentiles, cheap for a few hundred cells.
 const RESAMPLES: usize = 10_000;
 
-/// The parameter a within-run comparison varies.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-pub enum CompareBy {
-    /// Hand-off method (serial cells have none and are left out).
-    Sync,
-    /// serial, up or dp.
-    Mode,
-    /// Normal method.
-    Normals,
-    /// Kernel.
-    Kernel,
-}
-
-impl CompareBy {
-    /// The name used in flags and output.
-    pub fn name(self) -> &'static str {
-        match self {
-            CompareBy::Sync => "sync",
-            CompareBy::Mode => "mode",
-            CompareBy::Normals => "normals",
-            CompareBy::Kernel => "kernel",
-        }
+crate::named! {
+    /// What a comparison concluded about one pair of cells.
+    pub enum Verdict {
+        /// The whole interval lies above +threshold.
+        #[strum(message = "improved")]
+        Improved,
+        /// The whole interval lies below -threshold.
+        #[strum(message = "regressed")]
+        Regressed,
+        /// The interval reaches into [-threshold, +threshold].
+        #[strum(message = "within noise")]
+        WithinNoise,
     }
-
-    /// Every value the parameter can take, in the order the enums declare them.
-    fn all_values(self) -> Vec<&'static str> {
-        match self {
-            CompareBy::Sync => SyncMethod::value_variants()
-                .iter()
-                .map(|v| v.name())
-                .collect(),
-            CompareBy::Mode => Mode::value_variants().iter().map(|v| v.name()).collect(),
-            CompareBy::Normals => NormalMethod::value_variants()
-                .iter()
-                .map(|v| v.name())
-                .collect(),
-            CompareBy::Kernel => Kernel::value_variants().iter().map(|v| v.name()).collect(),
-        }
-    }
-
-    /// The cell's value of this parameter; `None` when the cell has none (serial has no sync).
-    fn value(self, key: &CellKey) -> Option<&'static str> {
-        match self {
-            CompareBy::Sync => key.sync.map(SyncMethod::name),
-            CompareBy::Mode => Some(key.mode.name()),
-            CompareBy::Normals => Some(key.normals.name()),
-            CompareBy::Kernel => Some(key.kernel.name()),
-        }
-    }
-}
-
-/// What a comparison concluded about one pair of cells.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Verdict {
-    /// The whole interval lies above +threshold.
-    Improved,
-    /// The whole interval lies below -threshold.
-    Regressed,
-    /// The interval reaches into [-threshold, +threshold].
-    WithinNoise,
 }
 
 impl Verdict {
-    /// The name used in output.
-    pub fn name(self) -> &'static str {
-        match self {
-            Verdict::Improved => "improved",
-            Verdict::Regressed => "regressed",
-            Verdict::WithinNoise => "within noise",
-        }
+    /// The verdict in words, for tables.
+    pub fn words(self) -> &'static str {
+        self.get_message().unwrap_or(self.name())
     }
 }
 
@@ -105,10 +103,10 @@ pub struct Change {
     /// Within a run, e.g. `spin vs atomic`; absent between runs.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub versus: Option<String>,
-    /// Mean trial FPS of the base (or baseline) cell.
-    pub base_fps: f64,
-    /// Mean trial FPS of the new (or alternative) cell.
-    pub new_fps: f64,
+    /// Mean over the trials of the base (or baseline) cell, in the metric's unit.
+    pub base: f64,
+    /// Mean over the trials of the new (or alternative) cell.
+    pub new: f64,
     /// Change of NEW against BASE, in percent.
     pub change_pct: f64,
     /// Lower end of the 95% interval of the change, in percent.
@@ -117,6 +115,9 @@ pub struct Change {
     pub ci_high_pct: f64,
     /// A side had a single trial: the interval is the point estimate alone.
     pub single_trial: bool,
+    /// A side kept trials whose run delay or steal exceeded its noise threshold.
+    #[serde(default)]
+    pub noisy: bool,
     /// The classification against the threshold.
     pub verdict: Verdict,
 }
@@ -126,9 +127,11 @@ pub struct Change {
 pub struct Comparison {
     /// A change counts only when its whole interval clears this many percent.
     pub threshold_pct: f64,
+    /// What was compared.
+    pub metric: Metric,
     /// Within a run: the varied parameter; absent between runs.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub by: Option<CompareBy>,
+    pub by: Option<Dim>,
     /// Within a run: the baseline value; absent between runs.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub baseline: Option<String>,
@@ -140,6 +143,9 @@ pub struct Comparison {
     pub only_in_new: Vec<String>,
     /// Cells that failed or measured no FPS, so their pairs could not be compared.
     pub failed: Vec<String>,
+    /// Between two runs with balance searches: how each balance point moved.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub balance: Vec<BalanceShift>,
 }
 
 /// Why a within-run comparison could not be made.
@@ -176,10 +182,10 @@ pub enum CompareError {
 }
 
 /// Compares every cell of `new` with the cell of `base` that has the same key.
-pub fn between(base: &Results, new: &Results, threshold_pct: f64) -> Comparison {
+pub fn between(base: &Results, new: &Results, threshold_pct: f64, metric: Metric) -> Comparison {
     let new_by_key = first_by_key(&new.cells);
     let base_by_key = first_by_key(&base.cells);
-    let mut out = Comparison::empty(threshold_pct, None, None);
+    let mut out = Comparison::empty(threshold_pct, metric, None, None);
     let mut pairs = Vec::new();
     for b in unique(&base.cells) {
         match new_by_key.get(&b.key) {
@@ -198,25 +204,27 @@ pub fn between(base: &Results, new: &Results, threshold_pct: f64) -> Comparison 
         }
     }
     out.fill(pairs);
+    out.balance = shift::between(base, new);
     out
 }
 
 /// Ranks every other value of `by` against `baseline`, cell group by cell group, in one run.
 ///
-/// A group is every parameter but `by`. For `by = mode` the serial cell has no sync or threading,
-/// so a serial cell pairs with every up/dp cell of the same size, workload, normals and kernel,
-/// while up and dp pair by the full key but mode: that is the comparison Figure 5-1 makes.
-/// For `by = sync` serial cells have no value and are left out.
+/// A group is every dimension but `by`. Serial cells have no value of the hand-off dimensions,
+/// so for `by = mode` a serial cell pairs with every up/dp cell that matches it in the
+/// dimensions serial cells do have, while up and dp pair by the full key but mode: that is the
+/// comparison Figure 5-1 makes. For `by` a hand-off dimension, serial cells are left out.
 pub fn within(
     results: &Results,
-    by: CompareBy,
+    by: Dim,
     baseline: &str,
     threshold_pct: f64,
+    metric: Metric,
 ) -> Result<Comparison, CompareError> {
     let cells = unique(&results.cells);
-    let mut present: Vec<&'static str> = Vec::new();
+    let mut present: Vec<Value> = Vec::new();
     for c in &cells {
-        if let Some(v) = by.value(&c.key) {
+        if let Some(v) = c.key.get(by) {
             if !present.contains(&v) {
                 present.push(v);
             }
@@ -225,16 +233,16 @@ pub fn within(
     let listed = if present.is_empty() {
         "none".to_string()
     } else {
-        present.join(", ")
+        present.iter().join(", ")
     };
-    if !by.all_values().contains(&baseline) {
-        return Err(CompareError::UnknownBaseline {
+    let base_value = by
+        .parse_value(baseline)
+        .map_err(|_| CompareError::UnknownBaseline {
             by: by.name(),
             baseline: baseline.into(),
-            present: listed,
-        });
-    }
-    if !present.contains(&baseline) {
+            present: listed.clone(),
+        })?;
+    if !present.contains(&base_value) {
         return Err(CompareError::AbsentBaseline {
             by: by.name(),
             baseline: baseline.into(),
@@ -250,9 +258,9 @@ pub fn within(
 
     let (bases, others): (Vec<&Cell>, Vec<&Cell>) = cells
         .into_iter()
-        .filter(|c| by.value(&c.key).is_some())
-        .partition(|c| by.value(&c.key) == Some(baseline));
-    let mut out = Comparison::empty(threshold_pct, Some(by), Some(baseline.into()));
+        .filter(|c| c.key.get(by).is_some())
+        .partition(|c| c.key.get(by) == Some(base_value));
+    let mut out = Comparison::empty(threshold_pct, metric, Some(by), Some(baseline.into()));
     let mut pairs = Vec::new();
     let mut partnered = vec![false; others.len()];
     for b in &bases {
@@ -261,16 +269,13 @@ pub fn within(
             if partners(by, &b.key, &o.key) {
                 any = true;
                 partnered[i] = true;
-                let shown = if o.key.mode == Mode::Serial {
-                    &b.key
-                } else {
-                    &o.key
-                };
+                let shown = if o.key.is_serial() { &b.key } else { &o.key };
+                let other = o.key.get(by).map_or_else(|| "?".into(), |v| v.to_string());
                 pairs.push(Pair {
                     base: b,
                     new: o,
-                    label: group_label(shown, by),
-                    versus: Some(format!("{} vs {baseline}", by.value(&o.key).unwrap_or("?"))),
+                    label: shown.label_without(&[by]),
+                    versus: Some(format!("{other} vs {baseline}")),
                 });
             }
         }
@@ -287,59 +292,14 @@ pub fn within(
     Ok(out)
 }
 
-/// Whether a baseline cell and another cell belong to the same group.
-fn partners(by: CompareBy, base: &CellKey, other: &CellKey) -> bool {
-    match by {
-        CompareBy::Sync => {
-            CellKey {
-                sync: other.sync,
-                ..base.clone()
-            } == *other
-        }
-        CompareBy::Normals => {
-            CellKey {
-                normals: other.normals,
-                ..base.clone()
-            } == *other
-        }
-        CompareBy::Kernel => {
-            CellKey {
-                kernel: other.kernel,
-                ..base.clone()
-            } == *other
-        }
-        CompareBy::Mode => {
-            let same_rest = base.size == other.size
-                && base.workload == other.workload
-                && base.normals == other.normals
-                && base.kernel == other.kernel;
-            let serial = base.mode == Mode::Serial || other.mode == Mode::Serial;
-            same_rest && (serial || (base.sync == other.sync && base.threading == other.threading))
-        }
-    }
-}
-
-/// The label of a key without the varied parameter.
-fn group_label(key: &CellKey, by: CompareBy) -> String {
-    let mut parts = vec![format!("{}", key.size), format!("w{}", key.workload)];
-    if by != CompareBy::Mode {
-        parts.push(key.mode.name().into());
-    }
-    if by != CompareBy::Sync {
-        if let Some(s) = key.sync {
-            parts.push(s.name().into());
-        }
-    }
-    if let Some(t) = key.threading {
-        parts.push(t.name().into());
-    }
-    if by != CompareBy::Normals {
-        parts.push(key.normals.name().into());
-    }
-    if by != CompareBy::Kernel {
-        parts.push(key.kernel.name().into());
-    }
-    parts.join(" ")
+/// Whether a baseline cell and another cell belong to the same group: equal in every dimension
+/// but `by`, where a serial cell matches any value of the dimensions it does not have.
+fn partners(by: Dim, base: &CellKey, other: &CellKey) -> bool {
+    let serial = base.is_serial() || other.is_serial();
+    Dim::ALL
+        .iter()
+        .filter(|&&d| d != by)
+        .all(|&d| base.get(d) == other.get(d) || (serial && !d.in_serial_cells()))
 }
 
 /// The first cell of each key: a rerun cell appended to a file must not be compared twice.
@@ -363,44 +323,30 @@ struct Pair<'a> {
     versus: Option<String>,
 }
 
-/// A cell's trial FPS, or why it cannot be compared.
-fn trials(cell: &Cell) -> Result<Vec<f64>, String> {
-    let Some(s) = &cell.summary else {
-        return Err(match &cell.error {
-            Some(e) => format!("{}: {e}", cell.key.label()),
-            None => format!("{}: no measurements", cell.key.label()),
-        });
-    };
-    // Older files may lack per-trial values; the headline FPS then stands as one trial.
-    let t = if s.fps_trials.is_empty() {
-        vec![s.fps]
-    } else {
-        s.fps_trials.clone()
-    };
-    if t.iter().all(|f| f.is_finite() && *f > 0.0) {
-        Ok(t)
-    } else {
-        Err(format!("{}: no FPS measured", cell.key.label()))
-    }
-}
-
 impl Comparison {
-    fn empty(threshold_pct: f64, by: Option<CompareBy>, baseline: Option<String>) -> Comparison {
+    fn empty(
+        threshold_pct: f64,
+        metric: Metric,
+        by: Option<Dim>,
+        baseline: Option<String>,
+    ) -> Comparison {
         Comparison {
             threshold_pct,
+            metric,
             by,
             baseline,
             changes: Vec::new(),
             only_in_base: Vec::new(),
             only_in_new: Vec::new(),
             failed: Vec::new(),
+            balance: Vec::new(),
         }
     }
 
     fn fill(&mut self, pairs: Vec<Pair>) {
         let threshold = self.threshold_pct.abs();
         for p in pairs {
-            let (b, n) = match (trials(p.base), trials(p.new)) {
+            let (b, n) = match (self.metric.trials(p.base), self.metric.trials(p.new)) {
                 (Ok(b), Ok(n)) => (b, n),
                 (b, n) => {
                     for why in [b.err(), n.err()].into_iter().flatten() {
@@ -411,9 +357,14 @@ impl Comparison {
                     continue;
                 }
             };
-            let seed = fnv1a(&format!("{} {:?}", p.label, p.versus));
-            self.changes
-                .push(change(p.label, p.versus, &b, &n, threshold, seed));
+            let seed = stats::seed_from(&format!("{} {:?}", p.label, p.versus));
+            let noisy = [p.base, p.new]
+                .iter()
+                .any(|c| c.noise.as_ref().is_some_and(|n| n.noisy_trials() > 0));
+            self.changes.push(Change {
+                noisy,
+                ..change(p.label, p.versus, &b, &n, threshold, seed, self.metric)
+            });
         }
         // Stable sort: within-noise rows keep the run's order, so groups stay together.
         self.changes.sort_by(|a, b| {
@@ -449,23 +400,34 @@ impl Comparison {
         )
     }
 
-    fn headers(&self) -> [&'static str; 2] {
+    fn headers(&self) -> [String; 2] {
+        let unit = self.metric.unit();
         if self.by.is_some() {
-            ["Baseline FPS", "Other FPS"]
+            [format!("Baseline {unit}"), format!("Other {unit}")]
         } else {
-            ["Base FPS", "New FPS"]
+            [format!("Base {unit}"), format!("New {unit}")]
         }
     }
 
-    fn unmatched_titles(&self) -> [&'static str; 2] {
-        if self.by.is_some() {
+    /// The non-empty lists of cells that were not compared, each with its title.
+    fn unmatched(&self) -> Vec<(&'static str, &[String])> {
+        let [only_base, only_new] = if self.by.is_some() {
             [
                 "Baseline cells with nothing to compare",
                 "Cells without a baseline cell",
             ]
         } else {
             ["Only in base", "Only in new"]
-        }
+        };
+        [
+            (only_base, &self.only_in_base),
+            (only_new, &self.only_in_new),
+            ("Failed", &self.failed),
+        ]
+        .into_iter()
+        .filter(|(_, list)| !list.is_empty())
+        .map(|(title, list)| (title, list.as_slice()))
+        .collect()
     }
 
     /// `blank` pads unmarked intervals so that right-aligned text columns stay aligned.
@@ -478,12 +440,13 @@ impl Comparison {
                     Some(v) => format!("{}: {v}", c.label),
                     None => c.label.clone(),
                 };
+                let noisy = if c.noisy { NOISY } else { "" };
                 [
-                    c.verdict.name().to_string(),
+                    format!("{}{noisy}", c.verdict.words()),
                     pct(c.change_pct),
                     format!("[{}, {}]{mark}", pct(c.ci_low_pct), pct(c.ci_high_pct)),
-                    format!("{:.1}", c.base_fps),
-                    format!("{:.1}", c.new_fps),
+                    value(self.metric, c.base),
+                    value(self.metric, c.new),
                     label,
                 ]
             })
@@ -492,8 +455,8 @@ impl Comparison {
 
     fn title(&self) -> String {
         match (&self.by, &self.baseline) {
-            (Some(by), Some(b)) => format!("FPS by {} against {b}", by.name()),
-            _ => "FPS, new against base".to_string(),
+            (Some(by), Some(b)) => format!("{} by {by} against {b}", self.metric.unit()),
+            _ => format!("{}, new against base", self.metric.unit()),
         }
     }
 
@@ -506,8 +469,8 @@ impl Comparison {
             "Verdict".to_string(),
             "Change".into(),
             "95% CI".into(),
-            base.into(),
-            new.into(),
+            base,
+            new,
             "Cell".into(),
         ];
         let all: Vec<&Change> = self.changes.iter().collect();
@@ -544,17 +507,19 @@ impl Comparison {
                 "* one trial on a side: no interval, point estimate only"
             );
         }
-        let [only_base, only_new] = self.unmatched_titles();
-        for (title, list) in [
-            (only_base, &self.only_in_base),
-            (only_new, &self.only_in_new),
-            ("Failed", &self.failed),
-        ] {
-            if !list.is_empty() {
-                let _ = writeln!(out, "{title} ({}):", list.len());
-                for l in list {
-                    let _ = writeln!(out, "  {l}");
-                }
+        if self.changes.iter().any(|c| c.noisy) {
+            let _ = writeln!(out, "{NOISY_NOTE}");
+        }
+        for (title, list) in self.unmatched() {
+            let _ = writeln!(out, "{title} ({}):", list.len());
+            for l in list {
+                let _ = writeln!(out, "  {l}");
+            }
+        }
+        if !self.balance.is_empty() {
+            let _ = writeln!(out, "Balance points (new against base):");
+            for b in &self.balance {
+                let _ = writeln!(out, "  {}", b.line());
             }
         }
         out
@@ -598,19 +563,20 @@ impl Comparison {
                 "\\* one trial on a side: no interval, point estimate only\n"
             );
         }
-        let [only_base, only_new] = self.unmatched_titles();
-        for (title, list) in [
-            (only_base, &self.only_in_base),
-            (only_new, &self.only_in_new),
-            ("Failed", &self.failed),
-        ] {
-            if !list.is_empty() {
-                let _ = writeln!(out, "**{title}** ({}):\n", list.len());
-                for l in list {
-                    let _ = writeln!(out, "- `{l}`");
-                }
-                out.push('\n');
-            }
+        if self.changes.iter().any(|c| c.noisy) {
+            let _ = writeln!(out, "{NOISY_NOTE}\n");
+        }
+        for (title, list) in self.unmatched() {
+            let items: String = list.iter().map(|l| format!("- `{l}`\n")).collect();
+            let _ = writeln!(out, "**{title}** ({}):\n\n{items}", list.len());
+        }
+        if !self.balance.is_empty() {
+            let items: String = self
+                .balance
+                .iter()
+                .map(|b| format!("- {}\n", b.line()))
+                .collect();
+            let _ = writeln!(out, "**Balance points** (new against base):\n\n{items}");
         }
         out
     }
@@ -627,8 +593,12 @@ fn pct(v: f64) -> String {
     format!("{v:+.1}%")
 }
 
-fn mean(values: &[f64]) -> f64 {
-    values.iter().sum::<f64>() / values.len() as f64
+/// A value of `metric` as the tables show it.
+fn value(metric: Metric, v: f64) -> String {
+    match metric {
+        Metric::Fps => format!("{v:.1}"),
+        Metric::WaitCpu => format!("{v:.4}"),
+    }
 }
 
 fn change(
@@ -638,75 +608,39 @@ fn change(
     new: &[f64],
     threshold: f64,
     seed: u64,
+    metric: Metric,
 ) -> Change {
-    let (base_fps, new_fps) = (mean(base), mean(new));
-    let change_pct = (new_fps / base_fps - 1.0) * 100.0;
+    let (base_mean, new_mean) = (stats::mean(base), stats::mean(new));
+    let change_pct = (new_mean / base_mean - 1.0) * 100.0;
     // One trial has no spread to resample; pretending otherwise would invent certainty.
     let single_trial = base.len() < 2 || new.len() < 2;
     let (ci_low_pct, ci_high_pct) = if single_trial {
         (change_pct, change_pct)
     } else {
-        bootstrap(base, new, seed)
+        stats::bootstrap_change_pct(base, new, RESAMPLES, seed)
+    };
+    let (up, down) = if metric.higher_is_better() {
+        (Verdict::Improved, Verdict::Regressed)
+    } else {
+        (Verdict::Regressed, Verdict::Improved)
     };
     let verdict = if ci_low_pct > threshold {
-        Verdict::Improved
+        up
     } else if ci_high_pct < -threshold {
-        Verdict::Regressed
+        down
     } else {
         Verdict::WithinNoise
     };
     Change {
         label,
         versus,
-        base_fps,
-        new_fps,
+        base: base_mean,
+        new: new_mean,
         change_pct,
         ci_low_pct,
         ci_high_pct,
         single_trial,
+        noisy: false,
         verdict,
     }
-}
-
-/// 95% percentile interval of the change of the ratio of means, in percent.
-fn bootstrap(base: &[f64], new: &[f64], seed: u64) -> (f64, f64) {
-    let mut rng = SplitMix64(seed);
-    let mut resample = |xs: &[f64]| {
-        let sum: f64 = (0..xs.len()).map(|_| xs[rng.below(xs.len())]).sum();
-        sum / xs.len() as f64
-    };
-    let mut ratios: Vec<f64> = (0..RESAMPLES)
-        .map(|_| {
-            let b = resample(base);
-            let n = resample(new);
-            (n / b - 1.0) * 100.0
-        })
-        .collect();
-    ratios.sort_by(f64::total_cmp);
-    (quantile(&ratios, 0.025), quantile(&ratios, 0.975))
-}
-
-/// SplitMix64: a tiny, well-mixed generator; the interval must be the same on every run.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `0..n` by multiply-shift; the bias is far below anything a 95% interval shows.
-    fn below(&mut self, n: usize) -> usize {
-        ((u128::from(self.next()) * n as u128) >> 64) as usize
-    }
-}
-
-/// Seeds each pair from its label, so a cell's interval does not depend on which cells precede it.
-fn fnv1a(s: &str) -> u64 {
-    s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
-    })
 }

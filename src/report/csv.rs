@@ -1,61 +1,267 @@
-//! The tidy CSV: one row per cell, one column per parameter or statistic.
+//! CSV files through the `csv` crate, from flat row structs: the results table (one row per
+//! cell, one column per dimension or statistic) and `mesh --out`.
 
-use crate::results::{Cell, Results};
-use std::fmt::Write;
+use crate::calibrate::Calibrate;
+use crate::results::{Cell, CellKey, CellNoise, Results};
+use crate::stats;
+use serde::Serialize;
+use std::io::Write;
 
-/// The CSV header.
-pub const HEADER: &str = "size,workload,mode,sync,threading,normals,kernel,workload_iterations,\
-fps,fps_min,fps_max,fps_cv_percent,frame_ms_mean,frame_ms_median,frame_ms_p99,frame_ms_max,\
-one_percent_low_fps,workload_ms,wait_ms,copy_ms,step_ms,frames,seconds,pinned,error";
-
-/// The results as CSV text.
-pub fn to_string(results: &Results) -> String {
-    let mut out = String::from(HEADER);
-    out.push('\n');
-    for cell in &results.cells {
-        row(&mut out, cell);
-    }
-    out
+/// One results row: the cell's dimensions, its statistics, what disturbed it and how its level
+/// was calibrated; blank where a cell has no value.
+#[derive(Serialize)]
+struct CellRow<'a> {
+    #[serde(flatten)]
+    key: &'a CellKey,
+    workload_iterations: u64,
+    fps: Option<f64>,
+    fps_min: Option<f64>,
+    fps_max: Option<f64>,
+    fps_cv_percent: Option<f64>,
+    frame_ms_mean: Option<f64>,
+    frame_ms_median: Option<f64>,
+    frame_ms_p99: Option<f64>,
+    frame_ms_max: Option<f64>,
+    one_percent_low_fps: Option<f64>,
+    p1_fps: Option<f64>,
+    one_percent_low_average_fps: Option<f64>,
+    one_percent_low_integral_fps: Option<f64>,
+    p0_1_fps: Option<f64>,
+    point_one_percent_low_average_fps: Option<f64>,
+    point_one_percent_low_integral_fps: Option<f64>,
+    stutter_time_percent: Option<f64>,
+    workload_ms: Option<f64>,
+    wait_ms: Option<f64>,
+    wait_cpu_ms: Option<f64>,
+    helper_wait_ms: Option<f64>,
+    helper_wait_cpu_ms: Option<f64>,
+    copy_ms: Option<f64>,
+    step_ms: Option<f64>,
+    other_ms: Option<f64>,
+    age_frames_mean: Option<f64>,
+    age_ms_median: Option<f64>,
+    age_ms_p99: Option<f64>,
+    input_to_consume_ms_median: Option<f64>,
+    input_to_consume_ms_p99: Option<f64>,
+    dropped: Option<u64>,
+    repeated: Option<u64>,
+    read_checksum: Option<u64>,
+    frames: Option<usize>,
+    seconds: Option<f64>,
+    pinned: bool,
+    preempted_percent: Option<f64>,
+    steal_percent: Option<f64>,
+    involuntary_switches: Option<u64>,
+    noisy_trials: Option<usize>,
+    retries: Option<usize>,
+    calibrate: Option<Calibrate>,
+    level_micros: Option<f64>,
+    step_ms_at_start: Option<f64>,
+    step_ms_in_row: Option<f64>,
+    ns_per_iteration_at_start: Option<f64>,
+    ns_per_iteration_in_row: Option<f64>,
+    error: Option<&'a str>,
 }
 
-fn row(out: &mut String, cell: &Cell) {
-    let k = &cell.key;
-    let _ = write!(
-        out,
-        "{},{},{},{},{},{},{},{}",
-        k.size,
-        k.workload,
-        k.mode.name(),
-        k.sync.map_or("", |s| s.name()),
-        k.threading.map_or("", |t| t.name()),
-        k.normals.name(),
-        k.kernel.name(),
-        cell.workload_iterations
-    );
-    match &cell.summary {
-        Some(s) => {
-            let _ = write!(
-                out,
-                ",{:.3},{:.3},{:.3},{:.2},{:.6},{:.6},{:.6},{:.6},{:.3},{:.6},{:.6},{:.6},{:.6},{},{:.4}",
-                s.fps,
-                s.fps_spread.min,
-                s.fps_spread.max,
-                s.fps_spread.cv_percent,
-                s.frame_time_ms.mean,
-                s.frame_time_ms.median,
-                s.frame_time_ms.p99,
-                s.frame_time_ms.max,
-                s.one_percent_low_fps,
-                s.breakdown.workload_ms,
-                s.breakdown.wait_ms,
-                s.breakdown.copy_ms,
-                s.breakdown.step_ms,
-                s.frames,
-                s.seconds
-            );
+impl<'a> CellRow<'a> {
+    fn of(cell: &'a Cell) -> CellRow<'a> {
+        let s = cell.summary.as_ref();
+        let (noise, cal) = (cell.noise.as_ref(), cell.calibration.as_ref());
+        let latency = s.and_then(|s| s.latency.as_ref());
+        let mailbox = s.and_then(|s| s.mailbox.as_ref());
+        let metrics = s.and_then(|s| s.frame_metrics.as_ref());
+        let stat = |f: fn(&crate::measure::Summary) -> f64| s.map(f);
+        CellRow {
+            key: &cell.key,
+            workload_iterations: cell.workload_iterations,
+            fps: stat(|s| s.fps),
+            fps_min: stat(|s| s.fps_spread.min),
+            fps_max: stat(|s| s.fps_spread.max),
+            fps_cv_percent: stat(|s| s.fps_spread.cv_percent),
+            frame_ms_mean: stat(|s| s.frame_time_ms.mean),
+            frame_ms_median: stat(|s| s.frame_time_ms.median),
+            frame_ms_p99: stat(|s| s.frame_time_ms.p99),
+            frame_ms_max: stat(|s| s.frame_time_ms.max),
+            one_percent_low_fps: stat(|s| s.one_percent_low_fps),
+            p1_fps: metrics.map(|m| m.p1_fps),
+            one_percent_low_average_fps: metrics.map(|m| m.one_percent_low_average_fps),
+            one_percent_low_integral_fps: metrics.map(|m| m.one_percent_low_integral_fps),
+            p0_1_fps: metrics.map(|m| m.p0_1_fps),
+            point_one_percent_low_average_fps: metrics.map(|m| m.point_one_percent_low_average_fps),
+            point_one_percent_low_integral_fps: metrics
+                .map(|m| m.point_one_percent_low_integral_fps),
+            stutter_time_percent: metrics.map(|m| m.stutter_time_percent),
+            workload_ms: stat(|s| s.breakdown.workload_ms),
+            wait_ms: stat(|s| s.breakdown.wait_ms),
+            wait_cpu_ms: stat(|s| s.breakdown.wait_cpu_ms),
+            helper_wait_ms: stat(|s| s.breakdown.helper_wait_ms),
+            helper_wait_cpu_ms: stat(|s| s.breakdown.helper_wait_cpu_ms),
+            copy_ms: stat(|s| s.breakdown.copy_ms),
+            step_ms: stat(|s| s.breakdown.step_ms),
+            other_ms: stat(|s| s.breakdown.other_ms),
+            age_frames_mean: latency.map(|l| l.age_frames_mean),
+            age_ms_median: latency.map(|l| l.age_ms_median),
+            age_ms_p99: latency.map(|l| l.age_ms_p99),
+            input_to_consume_ms_median: latency.map(|l| l.input_to_consume_ms_median),
+            input_to_consume_ms_p99: latency.map(|l| l.input_to_consume_ms_p99),
+            dropped: mailbox.map(|m| m.dropped),
+            repeated: mailbox.map(|m| m.repeated),
+            read_checksum: s.and_then(|s| s.read_checksum),
+            frames: s.map(|s| s.frames),
+            seconds: stat(|s| s.seconds),
+            pinned: cell.pinned,
+            preempted_percent: noise.map(CellNoise::preempted_percent),
+            steal_percent: noise.map(CellNoise::steal_percent),
+            involuntary_switches: noise.map(CellNoise::involuntary_switches),
+            noisy_trials: noise.map(CellNoise::noisy_trials),
+            retries: noise.map(|n| n.retries),
+            calibrate: cal.map(|c| c.calibrate),
+            level_micros: cal.map(|c| c.level_micros),
+            step_ms_at_start: cal.map(|c| c.step_ms_at_start),
+            step_ms_in_row: cal.map(|c| c.step_ms_in_row),
+            ns_per_iteration_at_start: cal.map(|c| c.ns_per_iteration_at_start),
+            ns_per_iteration_in_row: cal.map(|c| c.ns_per_iteration_in_row),
+            error: cell.error.as_deref(),
         }
-        None => out.push_str(&",".repeat(15)),
     }
-    let error = cell.error.as_deref().unwrap_or("").replace('"', "'");
-    let _ = writeln!(out, ",{},\"{}\"", cell.pinned, error);
+}
+
+/// Why a CSV file could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum CsvError {
+    /// The writer failed (I/O, or a record of another length than the header).
+    #[error(transparent)]
+    Csv(#[from] csv::Error),
+    /// A row did not serialise to a flat object of scalars.
+    #[error("a CSV row must be a flat object of scalars: {0}")]
+    Shape(String),
+}
+
+/// Writes `rows` as CSV with a header of their field names. A row is serialised to a JSON
+/// object first, because the csv crate cannot write `#[serde(flatten)]` fields; the object keeps
+/// the fields in declaration order, and `null` is written as an empty field.
+pub fn write<T: Serialize>(
+    out: impl Write,
+    rows: impl IntoIterator<Item = T>,
+) -> Result<(), CsvError> {
+    let mut w = csv::Writer::from_writer(out);
+    let mut header_written = false;
+    for row in rows {
+        let serde_json::Value::Object(fields) =
+            serde_json::to_value(&row).map_err(|e| CsvError::Shape(e.to_string()))?
+        else {
+            return Err(CsvError::Shape("not an object".into()));
+        };
+        if !header_written {
+            w.write_record(fields.keys())?;
+            header_written = true;
+        }
+        let mut record = Vec::with_capacity(fields.len());
+        for (name, value) in fields {
+            record.push(match value {
+                serde_json::Value::Null => String::new(),
+                serde_json::Value::String(s) => s,
+                serde_json::Value::Bool(b) => b.to_string(),
+                serde_json::Value::Number(n) => n.to_string(),
+                _ => return Err(CsvError::Shape(format!("field `{name}` is not a scalar"))),
+            });
+        }
+        w.write_record(&record)?;
+    }
+    w.flush().map_err(csv::Error::from)?;
+    Ok(())
+}
+
+/// The results as CSV text: one row per cell.
+pub fn to_string(results: &Results) -> Result<String, CsvError> {
+    to_text(results.cells.iter().map(CellRow::of))
+}
+
+/// One balance point: the searched cell, then what the search found.
+#[derive(Serialize)]
+struct BalanceRow<'a> {
+    #[serde(flatten)]
+    key: &'a CellKey,
+    step_us: f64,
+    balance_us: Option<f64>,
+    balance_us_low: Option<f64>,
+    balance_us_high: Option<f64>,
+    balance_fraction: Option<f64>,
+    dp_over_serial: Option<f64>,
+    dp_over_serial_low: Option<f64>,
+    dp_over_serial_high: Option<f64>,
+    dp_over_up: Option<f64>,
+    dp_over_up_low: Option<f64>,
+    dp_over_up_high: Option<f64>,
+    overhead_percent: Option<f64>,
+    probes: usize,
+    note: Option<&'a str>,
+}
+
+/// One probe of a balance search.
+#[derive(Serialize)]
+struct ProbeRow<'a> {
+    #[serde(flatten)]
+    key: &'a CellKey,
+    step_us: f64,
+    workload_us: f64,
+    workload_over_step: f64,
+    fps: f64,
+    serial_fps: f64,
+    up_fps: Option<f64>,
+    over_serial: f64,
+    main_wait_us: f64,
+    helper_wait_us: f64,
+    frame_ms: f64,
+}
+
+/// The balance points as CSV: one row per searched cell.
+pub fn balance(results: &Results) -> Result<String, CsvError> {
+    let rows = results.balance.iter().map(|e| {
+        let up = e.dp_over_up;
+        BalanceRow {
+            key: &e.key,
+            step_us: e.step_us,
+            balance_us: e.balance_us,
+            balance_us_low: e.balance_us_low,
+            balance_us_high: e.balance_us_high,
+            balance_fraction: e.fraction(),
+            dp_over_serial: e.dp_over_serial,
+            dp_over_serial_low: e.dp_over_serial_low,
+            dp_over_serial_high: e.dp_over_serial_high,
+            dp_over_up: up.map(|r| r.value),
+            dp_over_up_low: up.map(|r| r.low),
+            dp_over_up_high: up.map(|r| r.high),
+            overhead_percent: e.overhead_percent,
+            probes: e.probes.len(),
+            note: e.note.as_deref(),
+        }
+    });
+    to_text(rows)
+}
+
+/// Every probe of every balance search as CSV, means over the paired trials.
+pub fn balance_probes(results: &Results) -> Result<String, CsvError> {
+    let rows = results.balance.iter().flat_map(|e| {
+        e.probes.iter().map(move |p| ProbeRow {
+            key: &e.key,
+            step_us: e.step_us,
+            workload_us: p.workload_us,
+            workload_over_step: p.workload_us / e.step_us,
+            fps: stats::mean(&p.fps),
+            serial_fps: stats::mean(&p.serial_fps),
+            up_fps: (!p.up_fps.is_empty()).then(|| stats::mean(&p.up_fps)),
+            over_serial: stats::mean(&p.fps) / stats::mean(&p.serial_fps),
+            main_wait_us: stats::mean(&p.main_wait_us),
+            helper_wait_us: stats::mean(&p.helper_wait_us),
+            frame_ms: p.frame_ms,
+        })
+    });
+    to_text(rows)
+}
+
+fn to_text<T: Serialize>(rows: impl IntoIterator<Item = T>) -> Result<String, CsvError> {
+    let mut out = Vec::new();
+    write(&mut out, rows)?;
+    Ok(String::from_utf8(out).expect("every field written is UTF-8"))
 }

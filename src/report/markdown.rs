@@ -1,15 +1,27 @@
 //! The Figure 5-1 table: rows mesh size × workload, columns serial / UP / DP and the ratios, one
-//! table per hand-off method, threading model, normal method and kernel.
+//! table per combination of the other dimensions (hand-off method, threading, normals, kernel...).
 
+use crate::calibrate::{self, Calibrate};
+use crate::cell::{Dim, DimValue};
 use crate::frame_loop::Mode;
 use crate::results::{Cell, CellKey, Results};
+use crate::sync::{Policy, SyncMethod};
 use std::fmt::Write;
+
+/// Marks a cell that kept trials disturbed beyond the noise threshold.
+const NOISY: &str = "†";
 
 fn fps(cell: Option<&Cell>) -> String {
     match cell {
-        Some(Cell {
-            summary: Some(s), ..
-        }) => format!("{:.0} ±{:.1}%", s.fps, s.fps_spread.cv_percent),
+        Some(
+            c @ Cell {
+                summary: Some(s), ..
+            },
+        ) => {
+            let noisy = c.noise.as_ref().is_some_and(|n| n.noisy_trials() > 0);
+            let mark = if noisy { NOISY } else { "" };
+            format!("{:.0} ±{:.1}%{mark}", s.fps, s.fps_spread.cv_percent)
+        }
         Some(Cell { error: Some(_), .. }) => "failed".into(),
         _ => "–".into(),
     }
@@ -67,6 +79,20 @@ pub fn preamble(results: &Results) -> String {
         .map(|l| format!("{}: {:.0} µs", l.workload, l.micros))
         .collect();
     let _ = writeln!(out, "Workload levels: {}  ", levels.join(", "));
+    let calibrated = results.cells.iter().find_map(|c| c.calibration.as_ref());
+    if let Some(c) = calibrated {
+        let _ = writeln!(
+            out,
+            "Calibration: {}  ",
+            match c.calibrate {
+                Calibrate::Row => "step_fraction levels re-derived from the yardstick measured before every row",
+                Calibrate::Once => "levels resolved once at the start; the yardstick re-measured before every row for drift",
+            }
+        );
+    }
+    for line in noise_warnings(results) {
+        let _ = writeln!(out, "**Warning**: {line}  ");
+    }
     let _ = writeln!(
         out,
         "Run: {} ({} cells), started {}",
@@ -77,12 +103,74 @@ pub fn preamble(results: &Results) -> String {
     out
 }
 
+/// What makes a run's figures less trustworthy: rows whose yardstick drifted since the start
+/// of the sweep, and cells that kept trials disturbed beyond the noise threshold.
+pub fn noise_warnings(results: &Results) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut drifted: Vec<String> = Vec::new();
+    let mut calibrate = None;
+    for c in &results.cells {
+        let Some(cal) = &c.calibration else { continue };
+        calibrate = Some(cal.calibrate);
+        let row = format!(
+            "{} (step {:+.0}%, workload {:+.0}%)",
+            c.key.row_label(),
+            100.0 * cal.step_drift(),
+            100.0 * cal.workload_drift()
+        );
+        if cal.drifted() && !drifted.contains(&row) {
+            drifted.push(row);
+        }
+    }
+    if !drifted.is_empty() {
+        let what = match calibrate {
+            Some(Calibrate::Once) => {
+                "their levels were resolved once, at the start (--calibrate once)"
+            }
+            _ => "their step_fraction levels were re-derived before the row",
+        };
+        out.push(format!(
+            "the machine drifted more than {:.0}% from the start's calibration in {} row(s): {}; {what}",
+            100.0 * calibrate::DRIFT_WARNING,
+            drifted.len(),
+            drifted.join(", ")
+        ));
+    }
+    let noisy: Vec<&Cell> = results
+        .cells
+        .iter()
+        .filter(|c| c.noise.as_ref().is_some_and(|n| n.noisy_trials() > 0))
+        .collect();
+    if let Some(first) = noisy.first().and_then(|c| c.noise.as_ref()) {
+        let worst = |f: fn(&crate::results::CellNoise) -> f64| {
+            noisy
+                .iter()
+                .filter_map(|c| c.noise.as_ref())
+                .map(f)
+                .fold(0.0, f64::max)
+        };
+        out.push(format!(
+            "{} cell(s) kept trials in which other tasks or the hypervisor took more than {}% of the wall time ({NOISY} in the tables; worst: a thread kept off its core {:.1}%, steal {:.1}%): {}; re-run with --retry-noisy or on a quieter machine (docs/noise.md)",
+            noisy.len(),
+            first.threshold_percent,
+            worst(|n| n.preempted_percent()),
+            worst(|n| n.steal_percent()),
+            noisy.iter().map(|c| c.key.label()).collect::<Vec<_>>().join(", ")
+        ));
+    }
+    out
+}
+
 /// The whole markdown report.
 pub fn to_string(results: &Results) -> String {
     let mut out = String::from("# oceanbench results\n\n");
     out.push_str(&preamble(results));
     out.push('\n');
     out.push_str(&tables(results));
+    out.push_str(&run_ahead(results));
+    out.push_str(&latest(results));
+    out.push_str(&waiting(results));
+    out.push_str(&balance(results));
     let failed: Vec<&Cell> = results.cells.iter().filter(|c| c.error.is_some()).collect();
     if !failed.is_empty() {
         out.push_str("\n## Failed cells\n\n");
@@ -98,32 +186,242 @@ pub fn to_string(results: &Results) -> String {
     out
 }
 
-/// One Figure 5-1 table per (sync, threading, normals, kernel) found among threaded cells; the
-/// serial column comes from the serial cell of the same size, workload, normals and kernel.
-pub fn tables(results: &Results) -> String {
-    let mut groups: Vec<CellKey> = Vec::new();
-    for c in &results.cells {
-        let g = CellKey {
-            size: 0,
-            workload: 0,
-            mode: Mode::Up,
+/// What each run-ahead depth buys in FPS and costs in latency: one row per threaded cell but its
+/// depth, one column per depth, each entry the FPS and the median input-to-consume time. Empty
+/// when the run measured a single depth.
+pub fn run_ahead(results: &Results) -> String {
+    let mut depths: Vec<usize> = results.cells.iter().filter_map(|c| c.key.depth).collect();
+    depths.sort_unstable();
+    depths.dedup();
+    if depths.len() < 2 {
+        return String::new();
+    }
+    let mut rows: Vec<CellKey> = Vec::new();
+    for c in results.cells.iter().filter(|c| !c.key.is_serial()) {
+        let row = CellKey {
+            depth: Some(depths[0]),
             ..c.key.clone()
         };
-        if c.key.mode != Mode::Serial && !groups.contains(&g) {
+        if !rows.contains(&row) {
+            rows.push(row);
+        }
+    }
+    let mut out = String::from(
+        "### Run-ahead: FPS · median input-to-consume latency (ms) by depth\n\n| cell |",
+    );
+    for d in &depths {
+        let _ = write!(out, " depth {d} |");
+    }
+    let _ = write!(out, "\n|---|{}\n", "---:|".repeat(depths.len()));
+    for row in rows {
+        let _ = write!(out, "| {} |", row.label_without(&[Dim::Depth]));
+        for &d in &depths {
+            let cell = results.cell(&CellKey {
+                depth: Some(d),
+                ..row.clone()
+            });
+            let latency = cell
+                .and_then(|c| c.summary.as_ref())
+                .and_then(|s| s.latency.as_ref())
+                .map_or(String::new(), |l| {
+                    format!(" · {:.2}", l.input_to_consume_ms_median)
+                });
+            let _ = write!(out, " {}{latency} |", fps(cell));
+        }
+        out.push('\n');
+    }
+    out.push('\n');
+    out
+}
+
+/// What the `latest` policy buys and what it drops: per `latest` cell, its FPS, the consumed
+/// meshes' age, the helper frames dropped and the meshes taken twice per consumed frame, and
+/// beside it the FPS of the `fifo` loop at depth 1 and 2 (same method where it serves `fifo`,
+/// else `atomic`). Empty when the run has no `latest` cell.
+pub fn latest(results: &Results) -> String {
+    let cells: Vec<&Cell> = results
+        .cells
+        .iter()
+        .filter(|c| c.key.policy == Some(Policy::Latest))
+        .collect();
+    if cells.is_empty() {
+        return String::new();
+    }
+    let mut out = String::from(
+        "### Latest mesh (mailbox) beside FIFO\n\n\
+         | cell | FPS | age ms p50 · p99 | dropped per frame | taken twice | FIFO depth 1 | FIFO depth 2 |\n\
+         |---|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for c in cells {
+        let fifo = |depth: usize| {
+            let sync = c.key.sync.filter(|s| s.serves(Policy::Fifo));
+            results.cell(&CellKey {
+                policy: Some(Policy::Fifo),
+                sync: Some(sync.unwrap_or(SyncMethod::Atomic)),
+                depth: Some(depth),
+                ..c.key.clone()
+            })
+        };
+        let s = c.summary.as_ref();
+        let age = s.and_then(|s| s.latency.as_ref()).map_or("–".into(), |l| {
+            format!("{:.2} · {:.2}", l.age_ms_median, l.age_ms_p99)
+        });
+        let (dropped, twice) = s
+            .and_then(|s| s.mailbox.as_ref().map(|m| (m, s.frames.max(1) as f64)))
+            .map_or(("–".into(), "–".into()), |(m, frames)| {
+                (
+                    format!("{:.2}", m.dropped as f64 / frames),
+                    format!("{:.1}%", 100.0 * m.repeated as f64 / frames),
+                )
+            });
+        let _ = writeln!(
+            out,
+            "| {} | {} | {age} | {dropped} | {twice} | {} | {} |",
+            c.key.label(),
+            fps(Some(c)),
+            fps(fifo(1)),
+            fps(fifo(2)),
+        );
+    }
+    out.push('\n');
+    out
+}
+
+/// What waiting costs: per threaded cell, each side's wait per frame on the wall clock and on
+/// its CPU clock. A method that waits by burning the CPU shows equal columns; one that sleeps,
+/// a CPU column near zero. Empty for results from before the CPU was recorded.
+pub fn waiting(results: &Results) -> String {
+    let cells: Vec<&Cell> = results
+        .cells
+        .iter()
+        .filter(|c| !c.key.is_serial())
+        .filter(|c| {
+            c.summary
+                .as_ref()
+                .is_some_and(|s| !s.wait_cpu_ms_trials.is_empty())
+        })
+        .collect();
+    if cells.is_empty() {
+        return String::new();
+    }
+    let mut out = String::from(
+        "### Waiting per frame, wall and CPU (ms)\n\n\
+         | cell | main waits | main CPU | helper waits | helper CPU |\n\
+         |---|---:|---:|---:|---:|\n",
+    );
+    for c in cells {
+        let b = &c.summary.as_ref().expect("filtered on a summary").breakdown;
+        let _ = writeln!(
+            out,
+            "| {} | {:.3} | {:.3} | {:.3} | {:.3} |",
+            c.key.label(),
+            b.wait_ms,
+            b.wait_cpu_ms,
+            b.helper_wait_ms,
+            b.helper_wait_cpu_ms
+        );
+    }
+    out.push('\n');
+    out
+}
+
+/// The balance points: per searched cell, the helper's step S, the balance workload with its
+/// bracket, DP ÷ serial and DP ÷ UP there with their 95% intervals, the overhead above
+/// max(W, S), and where the run's workload levels fall against S. Empty when none was searched.
+pub fn balance(results: &Results) -> String {
+    if results.balance.is_empty() && results.balance_failures.is_empty() {
+        return String::new();
+    }
+    let mut out = String::from(
+        "### Balance points\n\n\
+         | cell | step S (µs) | balance W (µs) | W ÷ S | DP ÷ serial | DP ÷ UP | overhead | levels ÷ S | round trip (ns) |\n\
+         |---|---:|---:|---:|---:|---:|---:|---|---:|\n",
+    );
+    let interval =
+        |v: Option<f64>, lo: Option<f64>, hi: Option<f64>, digits: usize| match (v, lo, hi) {
+            (Some(v), Some(lo), Some(hi)) => format!("{v:.digits$} [{lo:.digits$}, {hi:.digits$}]"),
+            _ => "–".into(),
+        };
+    let mut notes = Vec::new();
+    for e in &results.balance {
+        let levels: Vec<String> = results
+            .calibration
+            .levels
+            .iter()
+            .filter(|l| l.micros > 0.0)
+            .map(|l| format!("w{} {:.2}", l.workload, l.micros / e.step_us))
+            .collect();
+        let label = e.key.label_without(&[Dim::Workload]);
+        let _ = writeln!(
+            out,
+            "| {label} | {:.0} | {} | {} | {} | {} | {} | {} | {} |",
+            e.step_us,
+            interval(e.balance_us, e.balance_us_low, e.balance_us_high, 0),
+            e.fraction().map_or("–".into(), |f| format!("{f:.2}")),
+            interval(
+                e.dp_over_serial,
+                e.dp_over_serial_low,
+                e.dp_over_serial_high,
+                2
+            ),
+            e.dp_over_up.map_or("–".into(), |r| format!(
+                "{:.2} [{:.2}, {:.2}]",
+                r.value, r.low, r.high
+            )),
+            e.overhead_percent
+                .map_or("–".into(), |o| format!("{o:+.1}%")),
+            levels.join(", "),
+            e.round_trip_ns
+                .iter()
+                .map(|r| format!("{r:.0}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+        );
+        if let Some(n) = &e.note {
+            notes.push(format!("- {label}: {n}"));
+        }
+    }
+    out.push('\n');
+    notes.extend(
+        results
+            .balance_failures
+            .iter()
+            .map(|f| format!("- no balance point: {f}")),
+    );
+    if !notes.is_empty() {
+        out.push_str(&notes.join("\n"));
+        out.push_str("\n\n");
+    }
+    out
+}
+
+/// The dimensions every table lays out: rows are size × workload, columns the modes.
+const TABLE_DIMS: [Dim; 3] = [Dim::Size, Dim::Workload, Dim::Mode];
+
+/// One Figure 5-1 table per combination of the other dimensions found among threaded cells; the
+/// serial column comes from the serial cell of the same row.
+pub fn tables(results: &Results) -> String {
+    // A group is a key with the table's own dimensions set to placeholders.
+    let group_of = |key: &CellKey| -> CellKey {
+        let mut g = key.clone();
+        g.size = 0;
+        g.workload = 0;
+        if !g.is_serial() {
+            g.mode = Mode::Up;
+        }
+        g
+    };
+    let mut groups: Vec<CellKey> = Vec::new();
+    for c in results.cells.iter().filter(|c| !c.key.is_serial()) {
+        let g = group_of(&c.key);
+        if !groups.contains(&g) {
             groups.push(g);
         }
     }
+    // A serial-only run still gets one table.
     if groups.is_empty() {
-        // A serial-only run still gets one table.
         if let Some(c) = results.cells.first() {
-            groups.push(CellKey {
-                size: 0,
-                workload: 0,
-                mode: Mode::Up,
-                sync: None,
-                threading: None,
-                ..c.key.clone()
-            });
+            groups.push(group_of(&c.key));
         }
     }
     let mut rows: Vec<(usize, usize)> = Vec::new();
@@ -134,35 +432,26 @@ pub fn tables(results: &Results) -> String {
     }
     let mut out = String::new();
     for g in groups {
-        let _ = writeln!(
-            out,
-            "### FPS, {} hand-off, {} helper{}, {} normals, {} kernel\n",
-            g.sync.map_or("no", |s| s.name()),
-            g.threading.map_or("no", |t| t.name()),
-            if g.helpers == 1 {
-                String::new()
-            } else {
-                format!(" ×{}", g.helpers)
-            },
-            g.normals.name(),
-            g.kernel.name()
-        );
+        let heading: Vec<String> = Dim::ALL
+            .iter()
+            .filter(|d| !TABLE_DIMS.contains(d))
+            .filter_map(|&d| {
+                let v = g.get(d)?;
+                (Some(v) != d.quiet()).then(|| d.title(v))
+            })
+            .collect();
+        let _ = writeln!(out, "### FPS, {}\n", heading.join(", "));
         out.push_str("| mesh | workload | serial | UP | DP | DP÷UP | DP÷serial |\n");
         out.push_str("|---|---:|---:|---:|---:|---:|---:|\n");
         for &(size, workload) in &rows {
             let find = |mode: Mode| {
-                let serial = mode == Mode::Serial;
-                results.cell(&CellKey {
+                let key = CellKey {
                     size,
                     workload,
-                    mode,
-                    sync: if serial { None } else { g.sync },
-                    threading: if serial { None } else { g.threading },
-                    normals: g.normals,
-                    kernel: g.kernel,
-                    // Serial cells have no helper; threaded ones share the group's count.
-                    helpers: if serial { 1 } else { g.helpers },
-                })
+                    ..g.clone()
+                }
+                .with(Dim::Mode, mode.value())?;
+                results.cell(&key)
             };
             let (s, u, d) = (find(Mode::Serial), find(Mode::Up), find(Mode::Dp));
             let _ = writeln!(

@@ -1,129 +1,67 @@
 //! `condvar` and `condvar-std`: blocking waits on a condition variable, the paper's "OS-level
-//! synchronisation object".
+//! synchronisation object": the helper sleeps while every slot is full, the main thread while
+//! none is.
 
-use super::primitives::{PlCondvar, PlMutex, StdCondvar as StdCv, StdMutex};
-use super::{released_from, Handoff, Released, State, TimedOut};
+use super::primitives::Monitor;
+use super::{Free, Handoff, Ring, TimedOut};
 use std::time::Instant;
 
-/// A mutex-protected state with a condition variable signalled on every change.
-pub trait CondState: Default + Send + Sync + 'static {
-    /// Sets the state and wakes the waiters.
-    fn set(&self, state: State);
-    /// Moves Empty → Full and wakes the waiters; a shutdown that arrived meanwhile survives.
-    fn publish(&self);
-    /// Blocks until `done` accepts the state, or the deadline passes.
+/// The blocking hand-off over either library's mutex and condition variable: every change of
+/// the counters wakes the waiters.
+pub struct Blocking<M: Monitor<Ring>> {
+    monitor: M,
+    depth: u64,
+}
+
+impl<M: Monitor<Ring>> Blocking<M> {
+    /// A ring of `depth` free slots.
+    pub fn new(depth: u64) -> Self {
+        Blocking {
+            monitor: M::default(),
+            depth,
+        }
+    }
+
+    fn change(&self, f: impl FnOnce(&mut Ring)) {
+        f(&mut self.monitor.enter());
+        self.monitor.notify_all();
+    }
+
+    /// Blocks until `done` accepts the counters, or the deadline passes.
     fn wait_for<T>(
         &self,
         deadline: Instant,
-        done: impl Fn(State) -> Option<T>,
-    ) -> Result<T, TimedOut>;
-}
-
-/// The blocking hand-off over either library's mutex and condition variable.
-#[derive(Default)]
-pub struct Blocking<C: CondState> {
-    state: C,
-}
-
-impl<C: CondState> Handoff for Blocking<C> {
-    fn publish(&self) {
-        self.state.publish();
+        done: impl Fn(&Ring) -> Option<T>,
+    ) -> Result<T, TimedOut> {
+        let mut guard = self.monitor.enter();
+        loop {
+            if let Some(v) = done(&guard) {
+                return Ok(v);
+            }
+            if self.monitor.wait_until(&mut guard, deadline) {
+                return done(&guard).ok_or(TimedOut);
+            }
+        }
     }
-    fn wait_published(&self, deadline: Instant) -> Result<(), TimedOut> {
-        self.state
-            .wait_for(deadline, |s| (s == State::Full).then_some(()))
+}
+
+impl<M: Monitor<Ring>> Handoff for Blocking<M> {
+    fn wait_free(&self, deadline: Instant) -> Result<Free, TimedOut> {
+        self.wait_for(deadline, |r| r.free(self.depth))
+    }
+    fn publish(&self) {
+        self.change(|r| r.tail += 1);
+    }
+    fn wait_published(&self, frame: u64, deadline: Instant) -> Result<(), TimedOut> {
+        self.wait_for(deadline, |r| r.filled(frame))
     }
     fn release(&self) {
-        self.state.set(State::Empty);
-    }
-    fn wait_released(&self, deadline: Instant) -> Result<Released, TimedOut> {
-        self.state.wait_for(deadline, released_from)
+        self.change(|r| r.head += 1);
     }
     fn shutdown(&self) {
-        self.state.set(State::Shutdown);
+        self.change(|r| r.shutdown = true);
     }
-}
-
-/// parking_lot's mutex and condition variable.
-#[derive(Default)]
-pub struct ParkingLot {
-    state: PlMutex<State>,
-    changed: PlCondvar,
-}
-
-impl CondState for ParkingLot {
-    fn set(&self, state: State) {
-        *self.state.lock() = state;
-        self.changed.notify_all();
-    }
-
-    fn publish(&self) {
-        let mut s = self.state.lock();
-        if *s == State::Empty {
-            *s = State::Full;
-            drop(s);
-            self.changed.notify_all();
-        }
-    }
-
-    fn wait_for<T>(
-        &self,
-        deadline: Instant,
-        done: impl Fn(State) -> Option<T>,
-    ) -> Result<T, TimedOut> {
-        let mut guard = self.state.lock();
-        loop {
-            if let Some(v) = done(*guard) {
-                return Ok(v);
-            }
-            if self.changed.wait_until(&mut guard, deadline).timed_out() {
-                return done(*guard).ok_or(TimedOut);
-            }
-        }
-    }
-}
-
-/// `std::sync`'s mutex and condition variable.
-#[derive(Default)]
-pub struct Std {
-    state: StdMutex<State>,
-    changed: StdCv,
-}
-
-impl CondState for Std {
-    fn set(&self, state: State) {
-        *self.state.lock().unwrap_or_else(|e| e.into_inner()) = state;
-        self.changed.notify_all();
-    }
-
-    fn publish(&self) {
-        let mut s = self.state.lock().unwrap_or_else(|e| e.into_inner());
-        if *s == State::Empty {
-            *s = State::Full;
-            drop(s);
-            self.changed.notify_all();
-        }
-    }
-
-    fn wait_for<T>(
-        &self,
-        deadline: Instant,
-        done: impl Fn(State) -> Option<T>,
-    ) -> Result<T, TimedOut> {
-        let mut guard = self.state.lock().unwrap_or_else(|e| e.into_inner());
-        loop {
-            if let Some(v) = done(*guard) {
-                return Ok(v);
-            }
-            let left = deadline.saturating_duration_since(Instant::now());
-            if left.is_zero() {
-                return Err(TimedOut);
-            }
-            guard = self
-                .changed
-                .wait_timeout(guard, left)
-                .unwrap_or_else(|e| e.into_inner())
-                .0;
-        }
+    fn published(&self) -> u64 {
+        self.monitor.enter().tail
     }
 }

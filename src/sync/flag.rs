@@ -1,7 +1,7 @@
-//! `atomic` and `spin`: the state in one atomic byte, waiters polling it.
+//! `atomic` and `spin`: the ring's counters in atomics, waiters polling them.
 
-use super::primitives::{spin_loop, yield_now, AtomicU8, Ordering};
-use super::{released_from, Handoff, Released, State, TimedOut};
+use super::primitives::{spin_loop, yield_now, AtomicBool, AtomicU64, Ordering};
+use super::{Free, Handoff, Ring, TimedOut};
 use std::marker::PhantomData;
 use std::time::Instant;
 
@@ -46,53 +46,64 @@ pub fn poll<T, R: Relax>(
     }
 }
 
-/// The slot's state in one cache line's atomic byte.
-pub struct AtomicFlag<R: Relax> {
-    state: AtomicU8,
+/// The ring's counters in one cache line, each written by one side only and read by the
+/// other with acquire/release; waiters poll them.
+pub struct AtomicRing<R: Relax> {
+    /// Frames released, written by the main thread.
+    head: AtomicU64,
+    /// Frames published, written by the helper.
+    tail: AtomicU64,
+    shutdown: AtomicBool,
+    depth: u64,
     relax: PhantomData<R>,
 }
 
-impl<R: Relax> Default for AtomicFlag<R> {
-    fn default() -> Self {
-        AtomicFlag {
-            state: AtomicU8::new(State::Empty as u8),
+impl<R: Relax> AtomicRing<R> {
+    /// A ring of `depth` free slots.
+    pub fn new(depth: u64) -> Self {
+        AtomicRing {
+            head: AtomicU64::new(0),
+            tail: AtomicU64::new(0),
+            shutdown: AtomicBool::new(false),
+            depth,
             relax: PhantomData,
         }
     }
 }
 
-impl<R: Relax> AtomicFlag<R> {
-    fn load(&self) -> State {
-        State::from_u8(self.state.load(Ordering::Acquire))
+impl<R: Relax> Handoff for AtomicRing<R> {
+    fn wait_free(&self, deadline: Instant) -> Result<Free, TimedOut> {
+        // Only the helper writes the tail, so its own relaxed read is current.
+        let tail = self.tail.load(Ordering::Relaxed);
+        poll::<_, R>(deadline, || {
+            Ring {
+                head: self.head.load(Ordering::Acquire),
+                tail,
+                shutdown: self.shutdown.load(Ordering::Acquire),
+            }
+            .free(self.depth)
+        })
     }
-}
 
-impl<R: Relax> Handoff for AtomicFlag<R> {
     fn publish(&self) {
-        // Empty → Full only: a shutdown that arrived while the helper computed must survive.
-        let _ = self.state.compare_exchange(
-            State::Empty as u8,
-            State::Full as u8,
-            Ordering::Release,
-            Ordering::Relaxed,
-        );
+        self.tail.fetch_add(1, Ordering::Release);
     }
 
-    fn wait_published(&self, deadline: Instant) -> Result<(), TimedOut> {
-        poll::<_, R>(deadline, || (self.load() == State::Full).then_some(()))
+    fn wait_published(&self, frame: u64, deadline: Instant) -> Result<(), TimedOut> {
+        poll::<_, R>(deadline, || {
+            (self.tail.load(Ordering::Acquire) > frame).then_some(())
+        })
     }
 
     fn release(&self) {
-        // Only the main thread moves Full → Empty or anything → Shutdown, so a plain store cannot
-        // overwrite a shutdown.
-        self.state.store(State::Empty as u8, Ordering::Release);
-    }
-
-    fn wait_released(&self, deadline: Instant) -> Result<Released, TimedOut> {
-        poll::<_, R>(deadline, || released_from(self.load()))
+        self.head.fetch_add(1, Ordering::Release);
     }
 
     fn shutdown(&self) {
-        self.state.store(State::Shutdown as u8, Ordering::Release);
+        self.shutdown.store(true, Ordering::Release);
+    }
+
+    fn published(&self) -> u64 {
+        self.tail.load(Ordering::Acquire)
     }
 }

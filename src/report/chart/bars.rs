@@ -1,8 +1,10 @@
 //! The grouped-bar charts: Figure 5-1, DP ÷ UP and the hand-off methods.
 
 use super::render::{Bar, BarPanel, BarPlot, Body, Chart, Frame, Legend, RefLine};
-use super::{mode_name, Missing, Runs, CHART_SIZE};
+use super::{mode_name, Missing, NothingToDraw, Runs, CHART_SIZE};
 use crate::frame_loop::Mode;
+use crate::measure::Summary;
+use crate::stats;
 use plotters::style::RGBColor;
 
 /// Colour per mode: serial grey, UP orange, DP blue (Okabe-Ito, readable with colour blindness).
@@ -47,21 +49,67 @@ fn size_caption(size: usize) -> String {
     format!("{size}×{size} mesh")
 }
 
+/// One cell's FPS bar, its error bar from the slowest to the fastest trial.
+fn fps_bar(s: &Summary, group: usize, slot: usize, color: RGBColor) -> Bar {
+    Bar {
+        group,
+        slot,
+        value: s.fps,
+        range: Some((s.fps_spread.min, s.fps_spread.max)),
+        color,
+    }
+}
+
+/// A legend entry per run and mode, each mode in its colour.
+fn mode_legend(runs: &Runs, r: usize, modes: &[Mode]) -> Vec<Legend> {
+    modes
+        .iter()
+        .map(|&m| {
+            Legend::boxed(
+                runs.series(&runs.runs[r], mode_name(m)),
+                shade(mode_color(m), r),
+            )
+        })
+        .collect()
+}
+
+/// A bar chart from its panels: the machine lines and `note` under the title, what is missing
+/// under the chart, or nothing to draw (`empty`) without a panel.
+fn bar_chart(
+    runs: &Runs,
+    title: String,
+    note: String,
+    legend: Vec<Legend>,
+    missing: Missing,
+    plot: BarPlot,
+    empty: impl FnOnce() -> String,
+) -> Result<Chart, NothingToDraw> {
+    if plot.panels.is_empty() {
+        return Err(NothingToDraw(empty()));
+    }
+    let mut lines = runs.machine_lines();
+    lines.push(note);
+    Ok(Chart {
+        frame: Frame {
+            title,
+            lines,
+            legend,
+            notes: missing.notes(),
+        },
+        body: Body::Bars(plot),
+        size: CHART_SIZE,
+    })
+}
+
 /// Figure 5-1: FPS per workload, one panel per mesh size, serial / UP / DP bars.
-pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, String> {
-    let v = runs.variant().ok_or("no cells in the results")?;
+pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, NothingToDraw> {
+    let v = runs.variant()?;
     let modes = runs.modes();
     let workloads = runs.workloads();
     let mut missing = Missing::default();
-    let mut legend = vec![];
-    for (r, run) in runs.runs.iter().enumerate() {
-        for &m in &modes {
-            legend.push(Legend::boxed(
-                runs.series(run, mode_name(m)),
-                shade(mode_color(m), r),
-            ));
-        }
-    }
+    let legend = (0..runs.runs.len())
+        .flat_map(|r| mode_legend(runs, r, &modes))
+        .collect();
     let slots = runs.runs.len() * modes.len();
     let mut panels = vec![];
     for size in runs.sizes() {
@@ -69,15 +117,10 @@ pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, String> {
         for (g, &w) in workloads.iter().enumerate() {
             for (r, run) in runs.runs.iter().enumerate() {
                 for (m, &mode) in modes.iter().enumerate() {
-                    let key = v.key(size, w, mode, v.sync);
+                    let key = v.key(size, w, mode, v.sync());
                     if let Some(s) = runs.summary(run, &key, &mut missing) {
-                        bars.push(Bar {
-                            group: g,
-                            slot: r * modes.len() + m,
-                            value: s.fps,
-                            range: Some((s.fps_spread.min, s.fps_spread.max)),
-                            color: shade(mode_color(mode), r),
-                        });
+                        let color = shade(mode_color(mode), r);
+                        bars.push(fps_bar(s, g, r * modes.len() + m, color));
                     }
                 }
             }
@@ -91,39 +134,33 @@ pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, String> {
             });
         }
     }
-    if panels.is_empty() {
-        return Err(format!("no measured cell with {}", v.describe(true)));
-    }
-    let mut lines = runs.machine_lines();
-    lines.push(format!(
-        "Bars: all frames ÷ all seconds over the trials; error bars: slowest and fastest trial. {}.",
-        v.describe(true)
-    ));
-    Ok(Chart {
-        frame: Frame {
-            title: format!(
-                "Figure 5-1: frames per second by workload, serial vs UP vs DP ({} hand-off)",
-                v.sync.name()
-            ),
-            lines,
-            legend,
-            notes: missing.notes(),
-        },
-        body: Body::Bars(BarPlot {
+    bar_chart(
+        runs,
+        format!(
+            "Figure 5-1: frames per second by workload, serial vs UP vs DP ({} hand-off)",
+            v.sync().name()
+        ),
+        format!(
+            "Bars: all frames ÷ all seconds over the trials; error bars: slowest and fastest trial. {}.",
+            v.describe(true)
+        ),
+        legend,
+        missing,
+        BarPlot {
             panels,
             slots,
             x_desc: "workload level (synthetic main-thread work per frame)".into(),
             y_desc: "frames per second (FPS)".into(),
             shared_y: false,
             format: fps,
-        }),
-        size: CHART_SIZE,
-    })
+        },
+        || format!("no measured cell with {}", v.describe(true)),
+    )
 }
 
 /// DP ÷ UP and DP ÷ serial per workload, one panel per size, with the ideal 2.0.
-pub(super) fn relative(runs: &Runs) -> Result<Chart, String> {
-    let v = runs.variant().ok_or("no cells in the results")?;
+pub(super) fn relative(runs: &Runs) -> Result<Chart, NothingToDraw> {
+    let v = runs.variant()?;
     let workloads = runs.workloads();
     let pairs = [(Mode::Up, "DP ÷ UP"), (Mode::Serial, "DP ÷ serial")];
     let colors = [RGBColor(0x00, 0x72, 0xb2), RGBColor(0x00, 0x9e, 0x73)];
@@ -141,9 +178,9 @@ pub(super) fn relative(runs: &Runs) -> Result<Chart, String> {
         let mut bars = vec![];
         for (g, &w) in workloads.iter().enumerate() {
             for (r, run) in runs.runs.iter().enumerate() {
-                let dp = runs.summary(run, &v.key(size, w, Mode::Dp, v.sync), &mut missing);
+                let dp = runs.summary(run, &v.key(size, w, Mode::Dp, v.sync()), &mut missing);
                 for (p, &(base, _)) in pairs.iter().enumerate() {
-                    let b = runs.summary(run, &v.key(size, w, base, v.sync), &mut missing);
+                    let b = runs.summary(run, &v.key(size, w, base, v.sync()), &mut missing);
                     if let (Some(dp), Some(b)) = (dp, b) {
                         // The bound pairs DP's slowest trial with the base's fastest and back.
                         let lo = dp.fps_spread.min / b.fps_spread.max;
@@ -177,79 +214,76 @@ pub(super) fn relative(runs: &Runs) -> Result<Chart, String> {
             });
         }
     }
-    if panels.is_empty() {
-        return Err(format!(
-            "no DP cell with a UP or serial cell to divide by ({})",
+    bar_chart(
+        runs,
+        format!(
+            "DP speed-up: DP ÷ UP and DP ÷ serial FPS ({} hand-off)",
+            v.sync().name()
+        ),
+        format!(
+            "Error bars: DP's slowest trial ÷ the other's fastest, and the reverse. {}.",
             v.describe(true)
-        ));
-    }
-    let mut lines = runs.machine_lines();
-    lines.push(format!(
-        "Error bars: DP's slowest trial ÷ the other's fastest, and the reverse. {}.",
-        v.describe(true)
-    ));
-    Ok(Chart {
-        frame: Frame {
-            title: format!(
-                "DP speed-up: DP ÷ UP and DP ÷ serial FPS ({} hand-off)",
-                v.sync.name()
-            ),
-            lines,
-            legend,
-            notes: missing.notes(),
-        },
-        body: Body::Bars(BarPlot {
+        ),
+        legend,
+        missing,
+        BarPlot {
             panels,
             slots: runs.runs.len() * pairs.len(),
             x_desc: "workload level".into(),
             y_desc: "FPS ratio (×)".into(),
             shared_y: true,
             format: ratio,
-        }),
-        size: CHART_SIZE,
-    })
+        },
+        || {
+            format!(
+                "no DP cell with a UP or serial cell to divide by ({})",
+                v.describe(true)
+            )
+        },
+    )
 }
 
 /// Each hand-off method's FPS in UP and DP, one panel per size at the highest workload.
-pub(super) fn sync(runs: &Runs) -> Result<Chart, String> {
-    let v = runs.variant().ok_or("no cells in the results")?;
+pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
+    let v = runs.variant()?;
     let syncs = runs.syncs();
     let workload = *runs
         .workloads()
         .last()
-        .ok_or("no workloads in the results")?;
+        .ok_or(NothingToDraw::new("no workloads in the results"))?;
     let modes = [Mode::Up, Mode::Dp];
     let mut missing = Missing::default();
     let mut legend = vec![];
     for (r, run) in runs.runs.iter().enumerate() {
-        for &m in &modes {
-            legend.push(Legend::boxed(
-                runs.series(run, mode_name(m)),
-                shade(mode_color(m), r),
-            ));
-        }
+        legend.extend(mode_legend(runs, r, &modes));
         legend.push(Legend::line(runs.series(run, "serial"), shade(NO_GAIN, r)));
     }
     let mut panels = vec![];
+    let mut cpu_panels = vec![];
     for size in runs.sizes() {
         let mut bars = vec![];
+        let mut cpu_bars = vec![];
         let mut refs = vec![];
         for (r, run) in runs.runs.iter().enumerate() {
             for (g, &sync) in syncs.iter().enumerate() {
                 for (m, &mode) in modes.iter().enumerate() {
                     let key = v.key(size, workload, mode, sync);
                     if let Some(s) = runs.summary(run, &key, &mut missing) {
-                        bars.push(Bar {
-                            group: g,
-                            slot: r * modes.len() + m,
-                            value: s.fps,
-                            range: Some((s.fps_spread.min, s.fps_spread.max)),
-                            color: shade(mode_color(mode), r),
-                        });
+                        let color = shade(mode_color(mode), r);
+                        bars.push(fps_bar(s, g, r * modes.len() + m, color));
+                        if !s.wait_cpu_ms_trials.is_empty() {
+                            cpu_bars.push(Bar {
+                                group: g,
+                                slot: r * modes.len() + m,
+                                value: s.breakdown.wait_cpu_ms(),
+                                range: Some(stats::min_max(&s.wait_cpu_ms_trials)),
+                                color,
+                            });
+                        }
                     }
                 }
             }
-            let serial = v.key(size, workload, Mode::Serial, v.sync);
+            let serial = v.key(size, workload, Mode::Serial, v.sync());
             if let Some(s) = runs.summary(run, &serial, &mut missing) {
                 refs.push(RefLine {
                     value: s.fps,
@@ -257,41 +291,65 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, String> {
                 });
             }
         }
+        let groups: Vec<String> = syncs.iter().map(|s| s.name().to_string()).collect();
+        let caption = format!("{}, workload {workload}", size_caption(size));
+        if !cpu_bars.is_empty() {
+            cpu_panels.push(BarPanel {
+                caption: format!("{caption}: CPU spent waiting"),
+                groups: groups.clone(),
+                bars: cpu_bars,
+                refs: vec![],
+            });
+        }
         if !bars.is_empty() {
             panels.push(BarPanel {
-                caption: format!("{}, workload {workload}", size_caption(size)),
-                groups: syncs.iter().map(|s| s.name().to_string()).collect(),
+                caption,
+                groups,
                 bars,
                 refs,
             });
         }
     }
-    if panels.is_empty() {
-        return Err(format!(
-            "no threaded cell at workload {workload} ({})",
+    let slots = runs.runs.len() * modes.len();
+    let mut chart = bar_chart(
+        runs,
+        format!("Hand-off methods: FPS in UP and DP at workload {workload}, and the CPU their waits burn"),
+        format!(
+            "Dashed line: serial FPS. Error bars: slowest and fastest trial. Lower row: CPU time per frame the main thread and the helper spent waiting (a method that sleeps burns none). {}.",
             v.describe(false)
-        ));
-    }
-    let mut lines = runs.machine_lines();
-    lines.push(format!(
-        "Dashed line: serial FPS. Error bars: slowest and fastest trial. {}.",
-        v.describe(false)
-    ));
-    Ok(Chart {
-        frame: Frame {
-            title: format!("Hand-off methods: FPS in UP and DP at workload {workload}"),
-            lines,
-            legend,
-            notes: missing.notes(),
-        },
-        body: Body::Bars(BarPlot {
+        ),
+        legend,
+        missing,
+        BarPlot {
             panels,
-            slots: runs.runs.len() * modes.len(),
+            slots,
             x_desc: "hand-off method".into(),
             y_desc: "frames per second (FPS)".into(),
             shared_y: false,
             format: fps,
-        }),
-        size: CHART_SIZE,
-    })
+        },
+        || {
+            format!(
+                "no threaded cell at workload {workload} ({})",
+                v.describe(false)
+            )
+        },
+    )?;
+    if !cpu_panels.is_empty() {
+        if let Body::Bars(fps_plot) = std::mem::replace(&mut chart.body, Body::BarRows(vec![])) {
+            chart.body = Body::BarRows(vec![
+                fps_plot,
+                BarPlot {
+                    panels: cpu_panels,
+                    slots,
+                    x_desc: "hand-off method".into(),
+                    y_desc: "CPU ms per frame spent waiting".into(),
+                    shared_y: true,
+                    format: super::render::ms,
+                },
+            ]);
+            chart.size.1 = CHART_SIZE.1 * 3 / 2;
+        }
+    }
+    Ok(chart)
 }

@@ -2,7 +2,7 @@
 
 use super::bars::shade;
 use super::render::{Body, Chart, Frame, Legend, LinePanel, LinePlot, Series, StackPlot, StackRow};
-use super::{mode_name, short_mode, Missing, Runs, CHART_SIZE};
+use super::{mode_name, short_mode, Missing, NothingToDraw, Runs, CHART_SIZE};
 use crate::frame_loop::Mode;
 use crate::measure::{Summary, QUANTILES};
 use crate::sync::SyncMethod;
@@ -10,16 +10,32 @@ use plotters::style::RGBColor;
 
 const SERIAL: RGBColor = RGBColor(0x70, 0x70, 0x70);
 
+/// Method colours, in the methods' declaration order: the Okabe-Ito palette first (the paper's
+/// methods), then further colours distinct from it.
+const PALETTE: [RGBColor; 16] = [
+    RGBColor(0x00, 0x72, 0xb2),
+    RGBColor(0xd5, 0x5e, 0x00),
+    RGBColor(0x00, 0x9e, 0x73),
+    RGBColor(0xcc, 0x79, 0xa7),
+    RGBColor(0xe6, 0x9f, 0x00),
+    RGBColor(0x56, 0xb4, 0xe9),
+    RGBColor(0x11, 0x11, 0x11),
+    RGBColor(0x88, 0x22, 0x55),
+    RGBColor(0x44, 0xaa, 0x99),
+    RGBColor(0x99, 0x99, 0x33),
+    RGBColor(0x33, 0x22, 0x88),
+    RGBColor(0xaa, 0x44, 0x99),
+    RGBColor(0x66, 0x33, 0x00),
+    RGBColor(0x11, 0x77, 0x33),
+    RGBColor(0xdd, 0xcc, 0x77),
+    RGBColor(0x88, 0xcc, 0xee),
+];
+
 /// A colour per hand-off method, fixed so a method looks the same in every chart.
 fn sync_color(sync: SyncMethod) -> RGBColor {
-    match sync {
-        SyncMethod::Atomic => RGBColor(0x00, 0x72, 0xb2),
-        SyncMethod::Spin => RGBColor(0xd5, 0x5e, 0x00),
-        SyncMethod::Mutex => RGBColor(0x00, 0x9e, 0x73),
-        SyncMethod::Condvar => RGBColor(0xcc, 0x79, 0xa7),
-        SyncMethod::MutexStd => RGBColor(0xe6, 0x9f, 0x00),
-        SyncMethod::CondvarStd => RGBColor(0x56, 0xb4, 0xe9),
-    }
+    use strum::VariantArray;
+    let at = SyncMethod::VARIANTS.iter().position(|&m| m == sync);
+    PALETTE[at.unwrap_or(0) % PALETTE.len()]
 }
 
 /// The summary's frame-time points: mean, then median, p99, slowest-1% mean and max.
@@ -55,9 +71,12 @@ fn focus_text(size: usize, workload: usize) -> String {
 }
 
 /// Frame-time points per hand-off method, one panel per threaded mode, serial in each.
-pub(super) fn frame_times(runs: &Runs, focus: Option<(usize, usize)>) -> Result<Chart, String> {
-    let (size, workload) = focus.ok_or("no measured cell in the results")?;
-    let v = runs.variant().ok_or("no cells in the results")?;
+pub(super) fn frame_times(
+    runs: &Runs,
+    focus: Option<(usize, usize)>,
+) -> Result<Chart, NothingToDraw> {
+    let (size, workload) = focus.ok_or(NothingToDraw::new("no measured cell in the results"))?;
+    let v = runs.variant()?;
     let syncs = runs.syncs();
     let mut missing = Missing::default();
     let mut legend = vec![];
@@ -100,7 +119,7 @@ pub(super) fn frame_times(runs: &Runs, focus: Option<(usize, usize)>) -> Result<
                     });
                 }
             }
-            let serial = v.key(size, workload, Mode::Serial, v.sync);
+            let serial = v.key(size, workload, Mode::Serial, v.sync());
             if let Some(s) = runs.summary(run, &serial, &mut missing) {
                 series.push(Series {
                     color: shade(SERIAL, r),
@@ -115,10 +134,10 @@ pub(super) fn frame_times(runs: &Runs, focus: Option<(usize, usize)>) -> Result<
         });
     }
     if !any {
-        return Err(format!(
+        return Err(NothingToDraw(format!(
             "no measured cell at {}",
             focus_text(size, workload)
-        ));
+        )));
     }
     let mut lines = runs.machine_lines();
     lines.push(if all_have_quantiles {
@@ -163,13 +182,16 @@ pub(super) fn frame_times(runs: &Runs, focus: Option<(usize, usize)>) -> Result<
 }
 
 /// The mean frame split into workload, wait, copy and the mesh step, one row per mode and method.
-pub(super) fn breakdown(runs: &Runs, focus: Option<(usize, usize)>) -> Result<Chart, String> {
+pub(super) fn breakdown(
+    runs: &Runs,
+    focus: Option<(usize, usize)>,
+) -> Result<Chart, NothingToDraw> {
     const WORKLOAD: usize = 0;
     const WAIT: usize = 1;
     const COPY: usize = 2;
     const STEP: usize = 3;
-    let (size, workload) = focus.ok_or("no measured cell in the results")?;
-    let v = runs.variant().ok_or("no cells in the results")?;
+    let (size, workload) = focus.ok_or(NothingToDraw::new("no measured cell in the results"))?;
+    let v = runs.variant()?;
     let syncs = runs.syncs();
     let modes = runs.modes();
     let mut missing = Missing::default();
@@ -177,7 +199,7 @@ pub(super) fn breakdown(runs: &Runs, focus: Option<(usize, usize)>) -> Result<Ch
     for run in &runs.runs {
         for &mode in &modes {
             let methods: Vec<SyncMethod> = if mode == Mode::Serial {
-                vec![v.sync]
+                vec![v.sync()]
             } else {
                 syncs.clone()
             };
@@ -218,10 +240,10 @@ pub(super) fn breakdown(runs: &Runs, focus: Option<(usize, usize)>) -> Result<Ch
         }
     }
     if rows.is_empty() {
-        return Err(format!(
+        return Err(NothingToDraw(format!(
             "no measured cell at {}",
             focus_text(size, workload)
-        ));
+        )));
     }
     let colors = vec![
         RGBColor(0x00, 0x72, 0xb2),

@@ -4,35 +4,28 @@
 //! Each chart is first built as plain data (`render::Chart`), then drawn once per format, so the
 //! PNG and the SVG always show the same thing.
 
+mod balance;
 mod bars;
 mod frames;
+mod latency;
 mod render;
 
-use crate::frame_loop::{Mode, Threading};
+use crate::cell::{Axes, Dim, DimValue, Value};
+use crate::frame_loop::Mode;
 use crate::measure::Summary;
-use crate::ocean::{Kernel, NormalMethod};
 use crate::results::{CellKey, Results};
 use crate::sync::SyncMethod;
-use serde::{Deserialize, Serialize};
+use itertools::Itertools;
 use std::path::{Path, PathBuf};
+use strum::VariantArray;
 
-/// An image format charts are written in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-pub enum ChartFormat {
-    /// A PNG bitmap.
-    Png,
-    /// An SVG drawing.
-    Svg,
-}
-
-impl ChartFormat {
-    /// The file extension, without the dot.
-    pub fn extension(self) -> &'static str {
-        match self {
-            ChartFormat::Png => "png",
-            ChartFormat::Svg => "svg",
-        }
+crate::named! {
+    /// An image format charts are written in.
+    pub enum ChartFormat {
+        /// A PNG bitmap.
+        Png,
+        /// An SVG drawing.
+        Svg,
     }
 }
 
@@ -61,7 +54,15 @@ pub enum ChartError {
 }
 
 /// Every chart, by the file stem it is written under.
-pub const CHARTS: [&str; 5] = ["figure-5-1", "relative", "sync", "frame-times", "breakdown"];
+pub const CHARTS: [&str; 7] = [
+    "figure-5-1",
+    "relative",
+    "sync",
+    "frame-times",
+    "breakdown",
+    "latency-vs-fps",
+    "balance",
+];
 
 /// Chart width and height in pixels (the breakdown grows taller when it has many rows).
 pub const CHART_SIZE: (u32, u32) = (1600, 900);
@@ -71,19 +72,29 @@ pub const CHART_SIZE: (u32, u32) = (1600, 900);
 pub struct ChartOptions {
     /// Formats to write every chart in.
     pub formats: Vec<ChartFormat>,
-    /// Mesh size for the single-cell charts; default the largest measured.
-    pub size: Option<usize>,
-    /// Workload for the single-cell charts; default the highest measured at that size.
-    pub workload: Option<usize>,
+    /// Values to hold dimensions at. Size and workload choose the single-cell charts' cell
+    /// (default: the largest size, at its highest workload); any other dimension is held at
+    /// the value given instead of the first measured. The charts lay out the modes themselves.
+    pub select: Vec<(Dim, Value)>,
 }
 
 impl Default for ChartOptions {
     fn default() -> Self {
         ChartOptions {
             formats: vec![ChartFormat::Png, ChartFormat::Svg],
-            size: None,
-            workload: None,
+            select: Vec::new(),
         }
+    }
+}
+
+/// Why a chart has nothing to draw (it is skipped, and the reason printed).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct NothingToDraw(pub String);
+
+impl NothingToDraw {
+    fn new(reason: &str) -> NothingToDraw {
+        NothingToDraw(reason.to_string())
     }
 }
 
@@ -129,26 +140,35 @@ pub fn draw_with(
         path: out_dir.to_path_buf(),
         source,
     })?;
-    let runs = Runs::new(results);
-    let focus = runs.focus(options.size, options.workload);
+    let runs = Runs::new(results, &options.select);
+    let selected = |dim| {
+        options
+            .select
+            .iter()
+            .find(|(d, _)| *d == dim)
+            .and_then(|&(_, v)| usize::from_value(v))
+    };
+    let focus = runs.focus(selected(Dim::Size), selected(Dim::Workload));
     let built = [
         bars::figure_5_1(&runs),
         bars::relative(&runs),
         bars::sync(&runs),
         frames::frame_times(&runs, focus),
         frames::breakdown(&runs, focus),
+        latency::latency_vs_fps(&runs, focus),
+        balance::balance(&runs),
     ];
     let mut drawn = Drawn::default();
     for (name, chart) in CHARTS.into_iter().zip(built) {
         match chart {
             Ok(chart) => {
                 for &format in &options.formats {
-                    let path = out_dir.join(format!("{name}.{}", format.extension()));
+                    let path = out_dir.join(format!("{name}.{}", format.name()));
                     render::write(&chart, &path, format)?;
                     drawn.files.push(path);
                 }
             }
-            Err(reason) => drawn.skipped.push(Skipped {
+            Err(NothingToDraw(reason)) => drawn.skipped.push(Skipped {
                 chart: name,
                 reason,
             }),
@@ -166,45 +186,51 @@ struct Run<'a> {
 /// The results being charted, with what they have in common.
 struct Runs<'a> {
     runs: Vec<Run<'a>>,
+    /// The cells the charts draw; `None` when there are no cells.
+    variant: Option<Variant>,
 }
 
-/// The hand-off, threading, normals and kernel a chart holds fixed.
-#[derive(Clone, Copy, Debug)]
+/// The cells a chart draws: every dimension but the ones the chart lays out (size, workload,
+/// mode, and in some charts the hand-off method) held at one value.
+#[derive(Clone, Debug)]
 struct Variant {
-    sync: SyncMethod,
-    threading: Threading,
-    normals: NormalMethod,
-    kernel: Kernel,
+    /// A threaded cell at the chosen values.
+    template: CellKey,
 }
+
+/// The dimensions every chart lays out itself.
+const LAID_OUT: [Dim; 3] = [Dim::Size, Dim::Workload, Dim::Mode];
 
 impl Variant {
+    fn sync(&self) -> SyncMethod {
+        self.template.sync.expect("the template is a threaded cell")
+    }
+
     fn key(&self, size: usize, workload: usize, mode: Mode, sync: SyncMethod) -> CellKey {
-        let threaded = mode != Mode::Serial;
-        CellKey {
+        let key = CellKey {
             size,
             workload,
-            mode,
-            sync: threaded.then_some(sync),
-            threading: threaded.then_some(self.threading),
-            normals: self.normals,
-            kernel: self.kernel,
-            // Charts draw the single-helper cells; split-mesh cells are in the tables.
-            helpers: 1,
+            sync: Some(sync),
+            ..self.template.clone()
+        };
+        match mode {
+            Mode::Serial => key
+                .with(Dim::Mode, mode.value())
+                .expect("every threaded cell has a serial twin"),
+            _ => CellKey { mode, ..key },
         }
     }
 
+    /// The held values, as the subtitle names them (the method too when `with_sync`).
     fn describe(&self, with_sync: bool) -> String {
-        let sync = if with_sync {
-            format!("{} hand-off, ", self.sync.name())
-        } else {
-            String::new()
-        };
-        format!(
-            "{sync}{} helper, {} normals, {} kernel",
-            self.threading.name(),
-            self.normals.name(),
-            self.kernel.name()
-        )
+        Dim::ALL
+            .iter()
+            .filter(|&&d| !LAID_OUT.contains(&d) && (with_sync || d != Dim::Sync))
+            .filter_map(|&d| {
+                let v = self.template.get(d)?;
+                (Some(v) != d.quiet()).then(|| d.title(v))
+            })
+            .join(", ")
     }
 }
 
@@ -269,16 +295,8 @@ fn run_date(started: &str) -> String {
     }
 }
 
-/// First item of `order` that `present` accepts.
-fn first_present<T: Copy>(
-    order: impl IntoIterator<Item = T>,
-    present: impl Fn(T) -> bool,
-) -> Option<T> {
-    order.into_iter().find(|&t| present(t))
-}
-
 impl<'a> Runs<'a> {
-    fn new(results: &'a [Results]) -> Runs<'a> {
+    fn new(results: &'a [Results], select: &[(Dim, Value)]) -> Runs<'a> {
         let names: Vec<String> = results.iter().map(|r| r.config.name.clone()).collect();
         let unique = |labels: &[String]| {
             labels
@@ -305,13 +323,23 @@ impl<'a> Runs<'a> {
                     .collect()
             }
         };
-        Runs {
+        let mut runs = Runs {
             runs: labels
                 .into_iter()
                 .zip(results)
                 .map(|(label, results)| Run { label, results })
                 .collect(),
-        }
+            variant: None,
+        };
+        runs.variant = runs.choose_variant(select);
+        runs
+    }
+
+    /// The cells the charts draw, or why there are none.
+    fn variant(&self) -> Result<Variant, NothingToDraw> {
+        self.variant
+            .clone()
+            .ok_or(NothingToDraw::new("no cells in the results"))
     }
 
     fn multi(&self) -> bool {
@@ -354,28 +382,28 @@ impl<'a> Runs<'a> {
             .flat_map(|r| r.results.cells.iter().map(|c| &c.key))
     }
 
-    fn sizes(&self) -> Vec<usize> {
-        let mut v: Vec<usize> = self
+    /// Every value of a numeric dimension listed in a config or measured, ascending.
+    pub(super) fn counts(&self, dim: Dim) -> Vec<usize> {
+        let listed = self
             .runs
             .iter()
-            .flat_map(|r| r.results.config.sizes.iter().copied())
-            .chain(self.keys().map(|k| k.size))
+            .flat_map(|r| r.results.config.axes.values(dim));
+        let measured = self.keys().filter_map(|k| k.get(dim));
+        let mut v: Vec<usize> = listed
+            .chain(measured)
+            .filter_map(usize::from_value)
             .collect();
         v.sort_unstable();
         v.dedup();
         v
     }
 
+    fn sizes(&self) -> Vec<usize> {
+        self.counts(Dim::Size)
+    }
+
     fn workloads(&self) -> Vec<usize> {
-        let mut v: Vec<usize> = self
-            .runs
-            .iter()
-            .flat_map(|r| r.results.config.workloads.iter().copied())
-            .chain(self.keys().map(|k| k.workload))
-            .collect();
-        v.sort_unstable();
-        v.dedup();
-        v
+        self.counts(Dim::Workload)
     }
 
     fn modes(&self) -> Vec<Mode> {
@@ -386,54 +414,65 @@ impl<'a> Runs<'a> {
                     || self
                         .runs
                         .iter()
-                        .any(|r| r.results.config.modes.contains(&m))
+                        .any(|r| r.results.config.axes.modes.contains(&m))
             })
             .collect()
     }
 
     fn syncs(&self) -> Vec<SyncMethod> {
-        SyncMethod::ALL
-            .into_iter()
+        SyncMethod::VARIANTS
+            .iter()
+            .copied()
             .filter(|&s| {
                 self.keys().any(|k| k.sync == Some(s))
-                    || self.runs.iter().any(|r| r.results.config.sync.contains(&s))
+                    || self
+                        .runs
+                        .iter()
+                        .any(|r| r.results.config.axes.sync.contains(&s))
             })
             .collect()
     }
 
-    /// The first hand-off, normals and kernel present (in config order), and pool threading
-    /// when it was measured, as Figure 5-1 uses the paper's thread pool.
-    fn variant(&self) -> Option<Variant> {
-        let configs = || self.runs.iter().map(|r| &r.results.config);
-        let sync = first_present(
-            configs()
-                .flat_map(|c| c.sync.iter().copied())
-                .chain(SyncMethod::ALL),
-            |s| self.keys().any(|k| k.sync == Some(s)),
-        )
-        .unwrap_or(SyncMethod::ALL[0]);
-        let threading = first_present([Threading::Pool, Threading::Spawn], |t| {
-            self.keys().any(|k| k.threading == Some(t))
+    /// The value of every dimension the charts do not lay out: the one `select` gives, else the
+    /// first in config order that a measured cell has. Dimensions are fixed in order, each among
+    /// the cells that match the ones before, so the chosen combination was measured.
+    fn choose_variant(&self, select: &[(Dim, Value)]) -> Option<Variant> {
+        let mut cells: Vec<&CellKey> = self.keys().filter(|k| !k.is_serial()).collect();
+        if cells.is_empty() {
+            cells = self.keys().collect();
+        }
+        let first = *cells.first()?;
+        let mut chosen: Vec<(Dim, Value)> = Vec::new();
+        for &dim in Dim::ALL.iter().filter(|d| !LAID_OUT.contains(d)) {
+            let listed = self
+                .runs
+                .iter()
+                .flat_map(|r| r.results.config.axes.values(dim));
+            let measured = cells.iter().filter_map(|k| k.get(dim));
+            let value = match select.iter().find(|(d, _)| *d == dim) {
+                Some(&(_, v)) => Some(v),
+                None => listed
+                    .chain(measured)
+                    .find(|&v| cells.iter().any(|k| k.get(dim) == Some(v))),
+            };
+            if let Some(v) = value {
+                cells.retain(|k| k.get(dim).is_none_or(|x| x == v));
+                chosen.push((dim, v));
+            }
+        }
+        // A serial-only run still needs a method for its template: the default sweep's first.
+        let defaults = Axes::default();
+        let template = CellKey::from_fn(|d| match d {
+            Dim::Mode => Some(Mode::Up.value()),
+            _ => chosen
+                .iter()
+                .find(|(c, _)| *c == d)
+                .map(|&(_, v)| v)
+                .or_else(|| first.get(d))
+                .or_else(|| defaults.values(d).first().copied()),
         })
-        .unwrap_or(Threading::Pool);
-        let normals = first_present(
-            configs()
-                .flat_map(|c| c.normals.iter().copied())
-                .chain(self.keys().map(|k| k.normals)),
-            |n| self.keys().any(|k| k.normals == n),
-        )?;
-        let kernel = first_present(
-            configs()
-                .flat_map(|c| c.kernel.iter().copied())
-                .chain(self.keys().map(|k| k.kernel)),
-            |n| self.keys().any(|k| k.kernel == n),
-        )?;
-        Some(Variant {
-            sync,
-            threading,
-            normals,
-            kernel,
-        })
+        .ok()?;
+        Some(Variant { template })
     }
 
     /// The cell of the single-cell charts: the largest size with a measured cell, at its highest

@@ -139,11 +139,37 @@ pub(super) struct StackPlot {
     pub x_desc: String,
 }
 
+/// Points joined in order, each with a short label (a scatter whose points belong together).
+pub(super) struct Trace {
+    pub color: RGBColor,
+    /// (x, y, label) in the order the line joins them.
+    pub points: Vec<(f64, f64, String)>,
+}
+
+/// A panel of traces on numeric axes.
+pub(super) struct TracePanel {
+    pub caption: String,
+    pub traces: Vec<Trace>,
+}
+
+/// Traces in side-by-side panels, linear y from 0; x linear from 0, or logarithmic over the
+/// points' range.
+pub(super) struct TracePlot {
+    pub panels: Vec<TracePanel>,
+    pub x_desc: String,
+    pub y_desc: String,
+    pub log_x: bool,
+    pub y_format: fn(f64) -> String,
+}
+
 /// What a chart draws below its frame.
 pub(super) enum Body {
     Bars(BarPlot),
     Lines(LinePlot),
     Stacks(StackPlot),
+    Traces(TracePlot),
+    /// Bar plots stacked in rows, each with its own axes.
+    BarRows(Vec<BarPlot>),
 }
 
 /// A whole chart, ready to draw in any format.
@@ -165,23 +191,34 @@ pub(super) fn write(chart: &Chart, path: &Path, format: ChartFormat) -> Result<(
             chart,
         ),
     };
-    drawn.map_err(|message| ChartError::Draw {
+    drawn.map_err(|e| ChartError::Draw {
         path: path.to_path_buf(),
-        message,
+        message: e.to_string(),
     })
 }
 
-fn err(e: impl std::fmt::Display) -> String {
-    e.to_string()
+/// What a plotters backend reported; its error type differs per backend, so it is kept as text.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub(super) struct DrawError(String);
+
+fn err(e: impl std::fmt::Display) -> DrawError {
+    DrawError(e.to_string())
 }
 
-fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, chart: &Chart) -> Result<(), String> {
+fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, chart: &Chart) -> Result<(), DrawError> {
     root.fill(&WHITE).map_err(err)?;
     let body = frame(root, &chart.frame)?;
     match &chart.body {
         Body::Bars(p) => bars(&body, p)?,
         Body::Lines(p) => lines(&body, p)?,
         Body::Stacks(p) => stacks(&body, p)?,
+        Body::Traces(p) => traces(&body, p)?,
+        Body::BarRows(rows) => {
+            for (plot, area) in rows.iter().zip(body.split_evenly((rows.len().max(1), 1))) {
+                bars(&area, plot)?;
+            }
+        }
     }
     root.present().map_err(err)
 }
@@ -192,7 +229,7 @@ fn wrap<DB: DrawingBackend>(
     text: &str,
     style: &TextStyle,
     width: u32,
-) -> Result<Vec<String>, String> {
+) -> Result<Vec<String>, DrawError> {
     let mut out = vec![];
     let mut line = String::new();
     for word in text.split(' ') {
@@ -215,7 +252,7 @@ fn wrap<DB: DrawingBackend>(
 fn frame<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     frame: &Frame,
-) -> Result<DrawingArea<DB, Shift>, String> {
+) -> Result<DrawingArea<DB, Shift>, DrawError> {
     let (w, h) = root.dim_in_pixel();
     let inner = w - 2 * PAD as u32;
     let mut y = 14;
@@ -331,7 +368,10 @@ fn bar_top(bar: &Bar) -> f64 {
     bar.range.map_or(bar.value, |(_, hi)| hi.max(bar.value))
 }
 
-fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, plot: &BarPlot) -> Result<(), String> {
+fn bars<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    plot: &BarPlot,
+) -> Result<(), DrawError> {
     let panel_top = |p: &BarPanel| {
         p.bars
             .iter()
@@ -358,7 +398,7 @@ fn bar_panel<DB: DrawingBackend>(
     plot: &BarPlot,
     panel: &BarPanel,
     y_max: f64,
-) -> Result<(), String> {
+) -> Result<(), DrawError> {
     let n = panel.groups.len().max(1);
     let mut chart = ChartBuilder::on(area)
         .caption(&panel.caption, font(19.0))
@@ -454,7 +494,10 @@ fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
     ticks
 }
 
-fn lines<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, plot: &LinePlot) -> Result<(), String> {
+fn lines<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    plot: &LinePlot,
+) -> Result<(), DrawError> {
     let values = || {
         plot.panels
             .iter()
@@ -527,10 +570,99 @@ fn lines<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, plot: &LinePlot) -> 
     Ok(())
 }
 
+fn traces<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    plot: &TracePlot,
+) -> Result<(), DrawError> {
+    let areas = area.split_evenly((1, plot.panels.len().max(1)));
+    for (panel, area) in plot.panels.iter().zip(&areas) {
+        let points = || panel.traces.iter().flat_map(|t| &t.points);
+        let y_max = points().map(|p| p.1).fold(0.0, f64::max).max(1e-3) * 1.15;
+        let x_max = points().map(|p| p.0).fold(0.0, f64::max).max(1e-3) * 1.15;
+        let builder = || {
+            let mut b = ChartBuilder::on(area);
+            b.caption(&panel.caption, font(19.0))
+                .margin(10)
+                .x_label_area_size(58)
+                .y_label_area_size(88);
+            b
+        };
+        if plot.log_x {
+            let x_min = points()
+                .map(|p| p.0)
+                .filter(|x| *x > 0.0)
+                .fold(f64::INFINITY, f64::min);
+            let (lo, hi) = if x_min.is_finite() {
+                (x_min / 1.3, x_max)
+            } else {
+                (0.1, 10.0)
+            };
+            let chart = builder()
+                .build_cartesian_2d(
+                    (lo..hi).log_scale().with_key_points(log_ticks(lo, hi)),
+                    0.0..y_max,
+                )
+                .map_err(err)?;
+            trace_panel(chart, plot, panel, |v| format!("{v}"))?;
+        } else {
+            let chart = builder()
+                .build_cartesian_2d(0.0..x_max, 0.0..y_max)
+                .map_err(err)?;
+            trace_panel(chart, plot, panel, ms)?;
+        }
+    }
+    Ok(())
+}
+
+fn trace_panel<DB: DrawingBackend, X>(
+    mut chart: ChartContext<'_, DB, Cartesian2d<X, RangedCoordf64>>,
+    plot: &TracePlot,
+    panel: &TracePanel,
+    x_label: impl Fn(f64) -> String,
+) -> Result<(), DrawError>
+where
+    X: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
+{
+    let x_fmt = |v: &f64| x_label(*v);
+    let y_fmt = |v: &f64| (plot.y_format)(*v);
+    chart
+        .configure_mesh()
+        .x_desc(&plot.x_desc)
+        .y_desc(&plot.y_desc)
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
+        .label_style(font(15.0))
+        .axis_desc_style(font(17.0))
+        .light_line_style(LIGHT)
+        .max_light_lines(1)
+        .draw()
+        .map_err(err)?;
+    for trace in &panel.traces {
+        let line: Vec<(f64, f64)> = trace.points.iter().map(|p| (p.0, p.1)).collect();
+        chart
+            .draw_series(LineSeries::new(line, trace.color.stroke_width(2)))
+            .map_err(err)?;
+        chart
+            .draw_series(
+                trace
+                    .points
+                    .iter()
+                    .filter(|p| !p.2.is_empty())
+                    .map(|(x, y, label)| {
+                        EmptyElement::at((*x, *y))
+                            + Circle::new((0, 0), 5, trace.color.filled())
+                            + Text::new(label.clone(), (7, -18), font(13.0))
+                    }),
+            )
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
 fn stacks<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     plot: &StackPlot,
-) -> Result<(), String> {
+) -> Result<(), DrawError> {
     let n = plot.rows.len().max(1);
     let top = plot
         .rows

@@ -2,8 +2,10 @@
 //! dependent chain of integer mixing the compiler can neither vectorise nor remove, and never a
 //! sleep (a sleeping main thread would free the core and falsify the one-core `up` mode).
 
+use crate::stats;
 use serde::{Deserialize, Serialize};
 use std::hint::black_box;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// Runs `iterations` steps of the mixing chain from `seed` and returns its final value.
@@ -18,6 +20,26 @@ pub fn run(iterations: u64, seed: u64) -> u64 {
         z ^= z >> 31;
     }
     black_box(z)
+}
+
+/// Iterations between two looks at the stop flag: about 100 µs of work on current machines,
+/// far too few looks to show in the timing and often enough to stop any frame at once.
+const CHUNK: u64 = 1 << 14;
+
+/// Runs `iterations` steps as [`run`] does, looking at `stop` every [`CHUNK`] iterations; `None`
+/// when it was raised before the work was done.
+pub fn run_unless(iterations: u64, seed: u64, stop: Option<&AtomicBool>) -> Option<u64> {
+    let mut z = seed;
+    let mut left = iterations;
+    while left > 0 {
+        if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+            return None;
+        }
+        let n = left.min(CHUNK);
+        z = run(n, z);
+        left -= n;
+    }
+    Some(z)
 }
 
 /// The machine's speed at the workload, measured once per run.
@@ -40,17 +62,15 @@ impl Calibration {
         let per_iter = t.elapsed().as_secs_f64() / probe as f64;
         let sample_iterations = ((2e-3 / per_iter.max(1e-10)) as u64).clamp(probe, 1 << 26);
         black_box(run(sample_iterations, 2));
-        let mut samples_ns: Vec<f64> = (0..samples.max(1))
+        let samples_ns_per_iteration: Vec<f64> = (0..samples.max(1))
             .map(|s| {
                 let t = Instant::now();
                 black_box(run(sample_iterations, s as u64));
                 t.elapsed().as_nanos() as f64 / sample_iterations as f64
             })
             .collect();
-        let samples_ns_per_iteration = samples_ns.clone();
-        samples_ns.sort_by(f64::total_cmp);
         Calibration {
-            ns_per_iteration: samples_ns[samples_ns.len() / 2],
+            ns_per_iteration: stats::median(&samples_ns_per_iteration),
             sample_iterations,
             samples_ns_per_iteration,
         }

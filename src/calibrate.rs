@@ -1,0 +1,223 @@
+//! Workload levels measured against this machine. A `step_fraction` level is given in the
+//! yardstick step of a mesh size (reference kernel, `neighbors` normals) and resolved to workload
+//! iterations through the workload's measured speed. Both are measured at the start of a sweep
+//! and again before every row, interleaved, so "1.25 × the 256² step" keeps its meaning when the
+//! machine slows down mid-sweep (a shared VM's memory-bound step and ALU-bound workload do not
+//! slow down alike).
+
+use crate::config::Level;
+use crate::named;
+use crate::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
+use crate::stats;
+use crate::workload;
+use serde::{Deserialize, Serialize};
+use std::time::{Duration, Instant};
+
+named! {
+    /// When `step_fraction` levels are resolved against the machine.
+    pub enum Calibrate {
+        /// Before every row, from the yardstick measured just before it (the default).
+        Row,
+        /// Once, at the start of the sweep.
+        Once,
+    }
+}
+
+/// Drift beyond which a row's yardstick is reported as having moved since the sweep started.
+pub const DRIFT_WARNING: f64 = 0.10;
+
+/// One size's yardstick: an ocean ready to step, reference kernel and `neighbors` normals.
+struct Stepper {
+    size: usize,
+    ocean: Ocean,
+    mesh: Mesh,
+    frame: u32,
+}
+
+/// What one measurement found: the median yardstick step of each size and the workload's
+/// speed, sampled alternately.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Yardstick {
+    /// Median step (ms) of each size, reference kernel and `neighbors` normals.
+    pub step_ms: Vec<(usize, f64)>,
+    /// Median nanoseconds per workload iteration.
+    pub ns_per_iteration: f64,
+}
+
+impl Yardstick {
+    /// Measures `sizes` and the workload in rounds (one step of each size, then one workload
+    /// sample of `sample_iterations`), at least `min_rounds` and until `min_time` has passed,
+    /// at most 31 rounds.
+    pub fn measure(
+        sizes: &[usize],
+        spacing: f32,
+        waves: &WaveSet,
+        sample_iterations: u64,
+        min_rounds: usize,
+        min_time: Duration,
+    ) -> Yardstick {
+        let mut steppers: Vec<Stepper> = sizes
+            .iter()
+            .map(|&size| {
+                let grid =
+                    Grid::new(size, spacing).expect("sizes are validated before calibration");
+                let mut ocean = Ocean::new(
+                    grid,
+                    waves.clone(),
+                    NormalMethod::Neighbors,
+                    Kernel::Reference,
+                )
+                .expect("neighbors accepts every valid size");
+                let mut mesh = Mesh::new(grid);
+                ocean.step(0.0, &mut mesh);
+                Stepper {
+                    size,
+                    ocean,
+                    mesh,
+                    frame: 0,
+                }
+            })
+            .collect();
+        let mut steps: Vec<Vec<f64>> = vec![Vec::new(); steppers.len()];
+        let mut work = Vec::new();
+        let started = Instant::now();
+        for round in 1..=31 {
+            for (s, times) in steppers.iter_mut().zip(&mut steps) {
+                s.frame += 1;
+                let t = Instant::now();
+                s.ocean.step(s.frame as f32 / 60.0, &mut s.mesh);
+                times.push(t.elapsed().as_secs_f64() * 1e3);
+            }
+            let t = Instant::now();
+            std::hint::black_box(workload::run(sample_iterations, round as u64));
+            work.push(t.elapsed().as_nanos() as f64 / sample_iterations.max(1) as f64);
+            if round >= min_rounds && started.elapsed() >= min_time {
+                break;
+            }
+        }
+        Yardstick {
+            step_ms: steppers
+                .iter()
+                .zip(&steps)
+                .map(|(s, t)| (s.size, stats::median(t)))
+                .collect(),
+            ns_per_iteration: stats::median(&work),
+        }
+    }
+
+    /// The measured step of `size`, if it was measured.
+    pub fn step_of(&self, size: usize) -> Option<f64> {
+        self.step_ms
+            .iter()
+            .find(|(s, _)| *s == size)
+            .map(|&(_, ms)| ms)
+    }
+}
+
+/// The microseconds a level stands for, with steps from `step_of`.
+pub fn level_micros(level: &Level, step_of: impl Fn(usize) -> Option<f64>) -> f64 {
+    match (level.micros, level.step_fraction, level.size) {
+        (Some(us), _, _) => us,
+        (None, Some(fraction), Some(size)) => {
+            fraction * step_of(size).expect("the level's size was measured") * 1e3
+        }
+        _ => unreachable!("levels are validated before calibration"),
+    }
+}
+
+/// The sizes a sweep measures: every listed size (for drift) and every size a level refers to.
+pub fn yardstick_sizes<'a>(
+    sizes: &[usize],
+    levels: impl IntoIterator<Item = &'a Level>,
+) -> Vec<usize> {
+    let mut all: Vec<usize> = sizes.to_vec();
+    all.extend(levels.into_iter().filter_map(|l| l.size));
+    all.sort_unstable();
+    all.dedup();
+    all
+}
+
+/// How a cell's workload level was set and how the machine had moved when its row started.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RowCalibration {
+    /// When the level was resolved.
+    pub calibrate: Calibrate,
+    /// The yardstick step of the cell's size at the start of the sweep (ms).
+    pub step_ms_at_start: f64,
+    /// The same, measured just before the cell's row (ms).
+    pub step_ms_in_row: f64,
+    /// Workload nanoseconds per iteration at the start of the sweep.
+    pub ns_per_iteration_at_start: f64,
+    /// The same, measured just before the row.
+    pub ns_per_iteration_in_row: f64,
+    /// The microseconds of work per frame the cell's level came to.
+    pub level_micros: f64,
+}
+
+impl RowCalibration {
+    /// The step's change since the start, as a fraction (0.1 = 10% slower).
+    pub fn step_drift(&self) -> f64 {
+        self.step_ms_in_row / self.step_ms_at_start - 1.0
+    }
+
+    /// The workload speed's change since the start, as a fraction (0.1 = 10% slower).
+    pub fn workload_drift(&self) -> f64 {
+        self.ns_per_iteration_in_row / self.ns_per_iteration_at_start - 1.0
+    }
+
+    /// Whether either drifted by more than [`DRIFT_WARNING`].
+    pub fn drifted(&self) -> bool {
+        self.step_drift().abs() > DRIFT_WARNING || self.workload_drift().abs() > DRIFT_WARNING
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn levels_resolve_against_the_steps_given() {
+        let steps = |size: usize| (size == 256).then_some(12.0);
+        assert_eq!(level_micros(&Level::micros(150.0), steps), 150.0);
+        assert_eq!(
+            level_micros(&Level::step_fraction(1.25, 256), steps),
+            15_000.0
+        );
+    }
+
+    #[test]
+    fn the_yardstick_measures_every_size_and_the_workload() {
+        let y = Yardstick::measure(&[8, 16], 1.0, &WaveSet::default(), 1000, 3, Duration::ZERO);
+        assert_eq!(y.step_ms.len(), 2);
+        assert!(y.step_of(8).unwrap() > 0.0 && y.step_of(16).unwrap() > 0.0);
+        assert!(y.step_of(32).is_none());
+        assert!(y.ns_per_iteration > 0.0);
+    }
+
+    #[test]
+    fn drift_is_a_signed_fraction_of_the_start() {
+        let c = RowCalibration {
+            calibrate: Calibrate::Row,
+            step_ms_at_start: 10.0,
+            step_ms_in_row: 12.5,
+            ns_per_iteration_at_start: 6.0,
+            ns_per_iteration_in_row: 6.0,
+            level_micros: 0.0,
+        };
+        assert_eq!(c.step_drift(), 0.25);
+        assert_eq!(c.workload_drift(), 0.0);
+        assert!(c.drifted());
+        let still = RowCalibration {
+            step_ms_in_row: 10.5,
+            ..c
+        };
+        assert!(!still.drifted());
+        assert_eq!(
+            yardstick_sizes(
+                &[40, 128],
+                &[Level::step_fraction(1.0, 256), Level::micros(3.0)]
+            ),
+            [40, 128, 256]
+        );
+    }
+}

@@ -1,0 +1,312 @@
+//! A cell is a point in the study's declared space. Every swept dimension is declared once, in
+//! the `dimensions!` invocation below: its config key and defaults, whether serial cells have it,
+//! whether it defines a row of interleaved trials, how labels and table headings show it, the
+//! value labels leave out, and the check its values must pass.
+//!
+//! Everything that deals with cells reads this declaration: config parsing and validation
+//! ([`Axes`]), the sweep's expansion ([`Axes::cells`]), [`CellKey`] and its label, the CSV
+//! columns, the markdown grouping, `compare --by` and the chart variants. A new dimension is one
+//! entry here plus the code that implements it; `tests/cell_model.rs` walks every dimension
+//! through every output.
+
+mod declare;
+
+pub use declare::{DimValue, Value};
+
+use crate::frame_loop::{self, Consume, Mode, Threading, MAX_DEPTH, MAX_HELPERS};
+use crate::input::InputError;
+use crate::ocean::{mesh::MAX_SIZE, Kernel, NormalMethod};
+use crate::sync::{Policy, SyncMethod};
+use declare::{dim_values, dimensions};
+use itertools::Itertools;
+
+dim_values!(
+    Mode,
+    Policy,
+    SyncMethod,
+    Threading,
+    Consume,
+    NormalMethod,
+    Kernel
+);
+
+dimensions! {
+    /// Mesh size N (N×N vertices).
+    Size(size: usize) {
+        config: sizes = [40, 128, 256],
+        cells: all,
+        row: true,
+        label: "{}",
+        title: "{0}×{0} mesh",
+        check: check_size,
+    }
+    /// Workload level, an index into `workload_levels`.
+    Workload(workload: usize) {
+        config: workloads = [0, 1, 2, 3],
+        cells: all,
+        row: true,
+        label: "w{}",
+        title: "workload {}",
+    }
+    /// Where the threads run: serial, up (one core) or dp (two cores).
+    Mode(mode: Mode) {
+        config: modes = [Mode::Serial, Mode::Up, Mode::Dp],
+        cells: all,
+        row: false,
+        label: "{}",
+        title: "{}",
+    }
+    /// Which frames the main thread consumes: every one in order, or the newest.
+    Policy(policy: Policy) {
+        config: policy = [Policy::Fifo],
+        cells: threaded,
+        row: false,
+        label: "{}",
+        title: "{} policy",
+        quiet: Policy::Fifo,
+    }
+    /// The hand-off method.
+    Sync(sync: SyncMethod) {
+        config: sync = [SyncMethod::Atomic, SyncMethod::Mutex, SyncMethod::Condvar],
+        cells: threaded,
+        row: false,
+        label: "{}",
+        title: "{} hand-off",
+    }
+    /// How helper threads come to exist: a persistent pool or a thread per frame.
+    Threading(threading: Threading) {
+        config: threading = [Threading::Pool],
+        cells: threaded,
+        row: false,
+        label: "{}",
+        title: "{} helper",
+    }
+    /// Helper threads the mesh's rows are split among (loop-level decomposition).
+    Helpers(helpers: usize) {
+        config: helpers = [1],
+        cells: threaded,
+        row: false,
+        label: "h{}",
+        title: "{} helpers",
+        quiet: 1,
+        check: check_helpers,
+    }
+    /// Mesh slots the helper may fill ahead of the main thread (1: the paper's lockstep loop).
+    Depth(depth: usize) {
+        config: depth = [1],
+        cells: threaded,
+        row: false,
+        label: "d{}",
+        title: "depth {}",
+        quiet: 1,
+        check: check_depth,
+    }
+    /// How the main thread consumes a mesh: copy it, read it in place, or hand the slot on.
+    Consume(consume: Consume) {
+        config: consume = [Consume::Copy],
+        cells: all,
+        row: false,
+        label: "{}",
+        title: "{} consume",
+        quiet: Consume::Copy,
+    }
+    /// How vertex normals are computed.
+    Normals(normals: NormalMethod) {
+        config: normals = [NormalMethod::Neighbors],
+        cells: all,
+        row: true,
+        label: "{}",
+        title: "{} normals",
+    }
+    /// Which kernel computes the mesh.
+    Kernel(kernel: Kernel) {
+        config: kernel = [Kernel::Reference],
+        cells: all,
+        row: true,
+        label: "{}",
+        title: "{} kernel",
+    }
+}
+
+fn check_size(&n: &usize) -> Result<(), InputError> {
+    if (2..=MAX_SIZE).contains(&n) {
+        Ok(())
+    } else {
+        Err(InputError(format!(
+            "{n} is not allowed; sizes are 2 to {MAX_SIZE}"
+        )))
+    }
+}
+
+fn check_depth(&n: &usize) -> Result<(), InputError> {
+    if (1..=MAX_DEPTH).contains(&n) {
+        Ok(())
+    } else {
+        Err(InputError(format!("must be 1 to {MAX_DEPTH}, got {n}")))
+    }
+}
+
+fn check_helpers(&n: &usize) -> Result<(), InputError> {
+    if (1..=MAX_HELPERS).contains(&n) {
+        Ok(())
+    } else {
+        Err(InputError(format!("must be 1 to {MAX_HELPERS}, got {n}")))
+    }
+}
+
+/// Whether a cell with this mode is serial: the one rule that decides which dimensions apply.
+fn is_serial(mode: Option<Value>) -> bool {
+    mode == Some(Mode::Serial.value())
+}
+
+/// A config list must be non-empty, list no value twice, and pass its dimension's check.
+fn check_list<T: PartialEq + std::fmt::Debug + DimValue>(
+    key: &str,
+    list: &[T],
+    check: impl Fn(&T) -> Result<(), InputError>,
+) -> Result<(), InputError> {
+    if list.is_empty() {
+        return Err(InputError(format!("{key}: must list at least one value")));
+    }
+    for (i, v) in list.iter().enumerate() {
+        if list[..i].contains(v) {
+            return Err(InputError(format!("{key}: {} is listed twice", v.value())));
+        }
+        check(v).map_err(|e| InputError(format!("{key}: {e}")))?;
+    }
+    Ok(())
+}
+
+impl CellKey {
+    /// Whether this cell runs everything on one thread.
+    pub fn is_serial(&self) -> bool {
+        self.mode == Mode::Serial
+    }
+
+    /// The same cell with `dim` set to `value`. Dimensions that stop applying follow the mode;
+    /// `None` when the new key would lack a value (a serial cell turned threaded has no method).
+    pub fn with(&self, dim: Dim, value: Value) -> Option<CellKey> {
+        CellKey::from_fn(|d| if d == dim { Some(value) } else { self.get(d) }).ok()
+    }
+
+    /// A short label such as `256 w2 dp atomic pool neighbors reference`: every value in
+    /// dimension order, leaving out quiet ones.
+    pub fn label(&self) -> String {
+        self.label_without(&[])
+    }
+
+    /// The label without the dimensions in `skip`.
+    pub fn label_without(&self, skip: &[Dim]) -> String {
+        Dim::ALL
+            .iter()
+            .filter(|d| !skip.contains(d))
+            .filter_map(|&d| {
+                let v = self.get(d)?;
+                (Some(v) != d.quiet()).then(|| d.label(v))
+            })
+            .join(" ")
+    }
+
+    /// The label of the cell's row: its row dimensions' values only.
+    pub fn row_label(&self) -> String {
+        let others: Vec<Dim> = Dim::ALL.iter().copied().filter(|d| !d.row()).collect();
+        self.label_without(&others)
+    }
+
+    /// Whether the loops can run this combination of values: a method belongs to one policy,
+    /// and `latest` runs one persistent helper with no ring. The sweep leaves such
+    /// combinations out of its product; see [`Axes::check_coverage`].
+    pub fn coherent(&self) -> Result<(), InputError> {
+        match (
+            self.policy,
+            self.sync,
+            self.depth,
+            self.helpers,
+            self.threading,
+        ) {
+            (Some(policy), Some(sync), Some(depth), Some(helpers), Some(threading)) => {
+                frame_loop::check_policy(policy, sync, depth, helpers, threading)
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// The values of the row dimensions: cells with equal rows run interleaved.
+    pub fn row(&self) -> Vec<Option<Value>> {
+        Dim::ALL
+            .iter()
+            .filter(|d| d.row())
+            .map(|&d| self.get(d))
+            .collect()
+    }
+}
+
+impl Axes {
+    /// Every cell of the sweep, row by row: the cartesian product of the row dimensions, and
+    /// within each row the product of the others, each in declaration order. Serial cells drop
+    /// the hand-off dimensions, so a row has one serial cell however many methods it crosses;
+    /// combinations the loops cannot run (see [`CellKey::coherent`]) are left out.
+    pub fn cells(&self) -> Vec<CellKey> {
+        self.product()
+            .into_iter()
+            .filter(|k| k.coherent().is_ok())
+            .collect()
+    }
+
+    /// Refuses lists with a value no runnable cell has, giving the reason the cells with it
+    /// cannot run (`policy: [latest]` with only `fifo` methods, say): a listed value that
+    /// silently vanished from the sweep would be a figure missing without a word.
+    pub fn check_coverage(&self) -> Result<(), InputError> {
+        let (kept, dropped): (Vec<CellKey>, Vec<CellKey>) = self
+            .product()
+            .into_iter()
+            .partition(|k| k.coherent().is_ok());
+        for &dim in Dim::ALL {
+            for value in self.values(dim) {
+                let has = |k: &&CellKey| k.get(dim) == Some(value);
+                if kept.iter().any(|k| has(&k)) {
+                    continue;
+                }
+                if let Some(Err(reason)) = dropped.iter().find(has).map(CellKey::coherent) {
+                    return Err(reason);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The whole product of the lists, runnable or not, without repeats.
+    fn product(&self) -> Vec<CellKey> {
+        let product = |row: bool| {
+            let dims: Vec<Dim> = Dim::ALL
+                .iter()
+                .copied()
+                .filter(|d| d.row() == row)
+                .collect();
+            let lists: Vec<Vec<Value>> = dims.iter().map(|&d| self.values(d)).collect();
+            (
+                dims,
+                lists.into_iter().multi_cartesian_product().collect_vec(),
+            )
+        };
+        let (row_dims, rows) = product(true);
+        let (col_dims, cols) = product(false);
+        let mut out = Vec::new();
+        let mut seen = std::collections::HashSet::new();
+        for row in &rows {
+            for col in &cols {
+                let value = |d: Dim| {
+                    let at = |dims: &[Dim], vals: &[Value]| {
+                        dims.iter().position(|&x| x == d).map(|i| vals[i])
+                    };
+                    at(&row_dims, row).or_else(|| at(&col_dims, col))
+                };
+                let key = CellKey::from_fn(value).expect("every dimension has a listed value");
+                if seen.insert(key.clone()) {
+                    out.push(key);
+                }
+            }
+        }
+        out
+    }
+}

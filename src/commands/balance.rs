@@ -1,0 +1,133 @@
+//! `oceanbench balance`: the workload at which the main thread stops waiting for the helper,
+//! per cell, with the speed-up curve around it.
+
+use super::{interrupt, prepare_out_dir, CliError};
+use crate::balance::{self, BalanceError, BalanceSettings};
+use crate::cell::{Axes, Dim};
+use crate::cli::BalanceArgs;
+use crate::config::{InputError, SweepConfig};
+use crate::frame_loop::Mode;
+use crate::report;
+use crate::report::chart::{self, ChartOptions};
+use crate::sweep::{self, Sweep};
+use crate::sync::SyncMethod;
+use std::path::PathBuf;
+
+/// What `balance` searches when no config or flag says otherwise: the Figure 5-1 sizes in DP
+/// with the paper's interlocked hand-off, and a short trial budget (a search runs hundreds).
+fn defaults() -> SweepConfig {
+    SweepConfig {
+        name: "balance".into(),
+        axes: Axes {
+            modes: vec![Mode::Dp],
+            sync: vec![SyncMethod::Atomic],
+            ..Axes::default()
+        },
+        warmup_frames: 3,
+        min_frames: 8,
+        min_seconds: 0.08,
+        max_seconds: 3.0,
+        workload_levels: crate::config::default_levels(),
+        balance: Some(BalanceSettings::default()),
+        ..SweepConfig::default()
+    }
+}
+
+pub(super) fn balance(args: BalanceArgs) -> Result<(), CliError> {
+    let mut config = match &args.config {
+        Some(path) => SweepConfig::load(path)?,
+        None => defaults(),
+    };
+    for (dim, values) in &args.select.given {
+        config.axes.set(*dim, values)?;
+    }
+    let mut settings = config.balance.clone().unwrap_or_default();
+    if let Some(t) = args.tolerance {
+        settings.tolerance_percent = t;
+    }
+    if let Some(p) = args.points {
+        settings.points = p;
+    }
+    if let Some(r) = &args.range {
+        settings.range = match r.as_slice() {
+            [a, b] => [*a, *b],
+            _ => {
+                return Err(InputError(format!(
+                    "--range: give FROM,TO as multiples of the step, got {} value(s)",
+                    r.len()
+                ))
+                .into())
+            }
+        };
+    }
+    if let Some(t) = args.trials {
+        settings.trials = t;
+    }
+    settings.validate("--")?;
+    if let Some(bad) = config.axes.modes.iter().find(|m| **m == Mode::Serial) {
+        return Err(InputError(format!(
+            "--mode: {bad} has no helper to balance against; use dp (and up for contrast)"
+        ))
+        .into());
+    }
+    config.balance = Some(settings.clone());
+    config.validate()?;
+    let dir = args.out.clone().unwrap_or_else(|| {
+        let stamp: String = sweep::utc_now()
+            .chars()
+            .filter(|c| c.is_ascii_alphanumeric())
+            .collect();
+        PathBuf::from("results").join(format!("{}-{stamp}", config.name))
+    });
+    prepare_out_dir(&dir)?;
+    let stop = interrupt::flag();
+    eprintln!("oceanbench: calibrating; results go to {}", dir.display());
+    let sweep = Sweep::prepare(config)?.stopping_on(stop);
+    let mut cells = Vec::new();
+    for key in sweep.results.config.axes.cells() {
+        let key = key
+            .with(Dim::Workload, crate::cell::Value::Count(0))
+            .expect("the workload dimension takes a count");
+        if !cells.contains(&key) {
+            cells.push(key);
+        }
+    }
+    let mut results = sweep.results.clone();
+    for key in &cells {
+        eprintln!("oceanbench: searching {}", key.label());
+        match balance::search(&sweep, key, &settings) {
+            Ok(entry) => results.balance.push(entry),
+            Err(BalanceError::Input(e)) => return Err(e.into()),
+            Err(BalanceError::Interrupted) => {
+                report::write_all(&dir, &results).map_err(anyhow::Error::from)?;
+                return Err(CliError::Interrupted(format!(
+                    "interrupted; {} finished search(es) kept in {}",
+                    results.balance.len(),
+                    dir.display()
+                )));
+            }
+            Err(e) => return Err(anyhow::anyhow!("{e}").into()),
+        }
+        report::write_all(&dir, &results).map_err(anyhow::Error::from)?;
+    }
+    results.finished = Some(sweep::utc_now());
+    report::write_all(&dir, &results).map_err(anyhow::Error::from)?;
+    print!("{}", report::markdown::balance(&results));
+    if !args.no_charts {
+        // Only the balance chart has something to show: the run measured no cells.
+        let drawn = chart::draw_with(
+            std::slice::from_ref(&results),
+            &dir,
+            &ChartOptions::default(),
+        )
+        .map_err(anyhow::Error::from)?;
+        for file in &drawn.files {
+            println!("chart: {}", file.display());
+        }
+        if let Some(s) = drawn.skipped.iter().find(|s| s.chart == "balance") {
+            eprintln!("oceanbench: chart balance skipped: {}", s.reason);
+        }
+    }
+    println!("Results: {}", dir.display());
+    Ok(())
+}

@@ -1,0 +1,41 @@
+//! `oceanbench compare`: two runs cell by cell, or the values of one dimension within a run.
+
+use super::{load_results, CliError};
+use crate::cli::{CompareArgs, CompareFormat};
+use crate::config::InputError;
+use crate::report::compare;
+
+pub(super) fn compare(args: CompareArgs) -> Result<(), CliError> {
+    if !(args.threshold.is_finite() && args.threshold >= 0.0) {
+        return Err(InputError(format!(
+            "--threshold: must be a finite percentage >= 0, got {}",
+            args.threshold
+        ))
+        .into());
+    }
+    let base = load_results(&args.base)?;
+    let comparison = match (&args.new, args.by, &args.baseline) {
+        (Some(new), None, _) => {
+            compare::between(&base, &load_results(new)?, args.threshold, args.metric)
+        }
+        (None, Some(by), Some(baseline)) => {
+            { compare::within(&base, by, baseline, args.threshold, args.metric) }
+                .map_err(|e| InputError(e.to_string()))?
+        }
+        _ => {
+            return Err(InputError(
+                "compare: give BASE NEW, or one RESULTS with --by and --baseline".into(),
+            )
+            .into())
+        }
+    };
+    match args.format {
+        CompareFormat::Text => print!("{}", comparison.to_text()),
+        CompareFormat::Markdown => print!("{}", comparison.to_markdown()),
+        CompareFormat::Json => println!("{}", comparison.to_json()),
+    }
+    if comparison.regressed() {
+        return Err(CliError::Regressed);
+    }
+    Ok(())
+}

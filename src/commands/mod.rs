@@ -1,0 +1,134 @@
+//! The commands, one file each; `execute` dispatches a parsed command line to them.
+
+mod balance;
+mod chart;
+mod compare;
+mod doctor;
+mod interrupt;
+mod latency;
+mod mesh;
+mod run;
+mod sweep;
+
+use crate::affinity;
+use crate::cli::{Cli, Command};
+use crate::config::InputError;
+use crate::report::chart::{self as charts, ChartOptions};
+use crate::results::Results;
+use std::path::{Path, PathBuf};
+
+/// Why a command failed; each kind has its exit status.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// The user's input is wrong (exit 2).
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// Something failed while running (exit 1).
+    #[error(transparent)]
+    Run(#[from] anyhow::Error),
+    /// A comparison found a regression; its report is already printed (exit 1).
+    #[error("a cell regressed beyond the threshold")]
+    Regressed,
+    /// A signal stopped the command; what it finished is kept and the message says where
+    /// (exit 130, as shells report SIGINT).
+    #[error("{0}")]
+    Interrupted(String),
+}
+
+impl CliError {
+    /// The process exit status for this error.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            CliError::Input(_) => 2,
+            CliError::Run(_) | CliError::Regressed => 1,
+            CliError::Interrupted(_) => 130,
+        }
+    }
+}
+
+/// Runs a parsed command line.
+pub fn execute(cli: Cli) -> Result<(), CliError> {
+    match cli.command {
+        Command::Run(args) => run::run(args),
+        Command::Sweep(args) => sweep::sweep(args),
+        Command::Chart(args) => chart::chart(args),
+        Command::Compare(args) => compare::compare(args),
+        Command::Latency(args) => latency::latency(args),
+        Command::Mesh(args) => mesh::mesh(args),
+        Command::Doctor(args) => doctor::doctor(args),
+        Command::Balance(args) => balance::balance(args),
+    }
+}
+
+fn load_results(path: &Path) -> Result<Results, CliError> {
+    Results::load(path).map_err(|e| InputError(e.to_string()).into())
+}
+
+/// The directory a results path stands for (a results.json's parent, or the directory itself).
+fn results_dir(path: &Path) -> PathBuf {
+    if path.is_dir() {
+        path.to_path_buf()
+    } else {
+        path.parent()
+            .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
+    }
+}
+
+/// Creates the results directory, refusing one that already holds results.
+fn prepare_out_dir(dir: &Path) -> Result<(), CliError> {
+    if dir.join("results.json").exists() {
+        return Err(InputError(format!(
+            "--out: {} already holds results.json; choose another directory",
+            dir.display()
+        ))
+        .into());
+    }
+    std::fs::create_dir_all(dir)
+        .map_err(|e| InputError(format!("--out: cannot create {}: {e}", dir.display())))?;
+    Ok(())
+}
+
+/// Draws every chart and prints where they went and which were skipped.
+fn draw_charts(runs: &[Results], out: &Path, options: &ChartOptions) -> Result<(), CliError> {
+    let drawn = charts::draw_with(runs, out, options).map_err(anyhow::Error::from)?;
+    for file in &drawn.files {
+        println!("chart: {}", file.display());
+    }
+    for s in &drawn.skipped {
+        eprintln!("oceanbench: chart {} skipped: {}", s.chart, s.reason);
+    }
+    Ok(())
+}
+
+/// The main and helper cores a command measures on: the ones given, or the first two allowed
+/// (one core alone stands for both).
+fn chosen_cores(given: Option<&[usize]>) -> Result<[usize; 2], InputError> {
+    let allowed = affinity::allowed_cores();
+    let cores = match given {
+        Some(c) => {
+            affinity::check_allowed(c)?;
+            c.to_vec()
+        }
+        None => allowed.iter().copied().take(2).collect(),
+    };
+    match cores.as_slice() {
+        [only] => Ok([*only, *only]),
+        [a, b] => Ok([*a, *b]),
+        [] => Err(InputError(
+            "cores: no core is allowed for this process".into(),
+        )),
+        _ => Err(InputError(format!(
+            "--cores: give one or two core ids, got {}",
+            affinity::list(&cores)
+        ))),
+    }
+}
+
+/// Fails (exit 1) when any cell failed; the results already say why.
+fn fail_on_errors(results: &Results) -> Result<(), CliError> {
+    let failed = results.cells.iter().filter(|c| c.error.is_some()).count();
+    if failed > 0 {
+        return Err(anyhow::anyhow!("{failed} cell(s) failed; see the results").into());
+    }
+    Ok(())
+}

@@ -1,0 +1,128 @@
+//! `oceanbench run`: measure the cells the flags describe and print their statistics.
+
+use super::{fail_on_errors, interrupt, prepare_out_dir, CliError};
+use crate::cell::{Axes, Dim};
+use crate::cli::{DimArgs, RunArgs};
+use crate::config::{Level, SweepConfig};
+use crate::frame_loop::Mode;
+use crate::report;
+use crate::results::Results;
+use crate::sweep::Sweep;
+
+/// The cell `run` measures when its flags are left out: a mid-size mesh in DP, where the
+/// hand-off matters, rather than the sweep's first values.
+fn default_axes() -> Axes {
+    Axes {
+        sizes: vec![128],
+        workloads: vec![0],
+        modes: vec![Mode::Dp],
+        ..Axes::default()
+    }
+}
+
+/// Each dimension's flag replaces that dimension's list; the others keep `run`'s defaults.
+fn axes(cell: &DimArgs) -> Axes {
+    let mut axes = default_axes();
+    for &dim in Dim::ALL {
+        let values = match cell.get(dim) {
+            Some(given) => given.to_vec(),
+            None => axes.values(dim).into_iter().take(1).collect(),
+        };
+        axes.set(dim, &values)
+            .expect("flag values are parsed by their dimension");
+    }
+    axes
+}
+
+pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
+    let mut config = SweepConfig {
+        name: "run".into(),
+        axes: axes(&args.cell),
+        trials: args.trials,
+        min_frames: args.frames,
+        min_seconds: args.seconds,
+        max_seconds: (args.seconds * 10.0).max(10.0),
+        waves_file: args.waves,
+        timeout_seconds: args.timeout,
+        cores: args.cores,
+        ..SweepConfig::default()
+    };
+    args.noise.apply(&mut config);
+    if let Some(us) = args.workload_micros {
+        config.workload_levels = vec![Level::micros(us)];
+        config.axes.workloads = vec![0];
+    }
+    if let Some(dir) = &args.out {
+        prepare_out_dir(dir)?;
+    }
+    let stop = interrupt::flag();
+    let sweep = Sweep::prepare(config)?.stopping_on(stop);
+    let results = sweep.run(&mut ());
+    if let Some(dir) = &args.out {
+        report::write_all(dir, &results).map_err(anyhow::Error::from)?;
+    }
+    print_cells(&results);
+    if results.finished.is_none() {
+        return Err(CliError::Interrupted(format!(
+            "interrupted; {} finished cell(s) printed above",
+            results.cells.len()
+        )));
+    }
+    fail_on_errors(&results)
+}
+
+fn print_cells(results: &Results) {
+    print!("{}", report::markdown::preamble(results));
+    for cell in &results.cells {
+        println!("{}", cell.key.label());
+        match &cell.summary {
+            Some(s) => println!(
+                "  {:.1} FPS (trials {}; cv {:.1}%), frame median {:.3} ms, p99 {:.3} ms, 1% low (slowest 1% of frames) {:.1} FPS\n  per frame: workload {:.3} ms, wait {:.3} ms, copy {:.3} ms, step {:.3} ms; pinned: {}",
+                s.fps,
+                s.fps_trials
+                    .iter()
+                    .map(|f| format!("{f:.1}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                s.fps_spread.cv_percent,
+                s.frame_time_ms.median,
+                s.frame_time_ms.p99,
+                s.one_percent_low_fps,
+                s.breakdown.workload_ms,
+                s.breakdown.wait_ms,
+                s.breakdown.copy_ms,
+                s.breakdown.step_ms,
+                cell.pinned
+            ),
+            None => println!("  failed: {}", cell.error.as_deref().unwrap_or("no frames")),
+        }
+        if let Some(m) = cell.summary.as_ref().and_then(|s| s.frame_metrics.as_ref()) {
+            println!(
+                "  frame-time metrics: P1 {:.1} FPS, 1% low average {:.1}, 1% low integral {:.1}; P0.1 {:.1}; stutter {:.2}% of the time",
+                m.p1_fps,
+                m.one_percent_low_average_fps,
+                m.one_percent_low_integral_fps,
+                m.p0_1_fps,
+                m.stutter_time_percent
+            );
+        }
+        if let Some(s) = &cell.summary {
+            if let (Some(m), Some(l)) = (&s.mailbox, &s.latency) {
+                println!(
+                    "  latest: mesh age {:.3} ms median, {:.3} ms p99; {} helper frames dropped, {} meshes taken twice, in {} frames",
+                    l.age_ms_median, l.age_ms_p99, m.dropped, m.repeated, s.frames
+                );
+            }
+        }
+        if let Some(n) = &cell.noise {
+            println!(
+                "  noise: kept off its core by other tasks up to {:.2}%, steal up to {:.2}% of a trial, {} involuntary switches; {} noisy trial(s), {} retried",
+                n.preempted_percent(),
+                n.steal_percent(),
+                n.involuntary_switches(),
+                n.noisy_trials(),
+                n.retries
+            );
+        }
+    }
+}

@@ -1,0 +1,195 @@
+//! `oceanbench sweep`: run a config (or resume one), write results after every row, print the
+//! table and draw the charts.
+
+use super::{
+    draw_charts, fail_on_errors, interrupt, load_results, prepare_out_dir, results_dir, CliError,
+};
+use crate::cli::{NoiseArgs, SweepArgs};
+use crate::config::{InputError, SweepConfig};
+use crate::doctor;
+use crate::report::{self, chart::ChartOptions};
+use crate::results::Results;
+use crate::sweep::{self, Observer, Progress, Sweep};
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+/// Names the top-level keys where two configs differ.
+fn config_differences(a: &SweepConfig, b: &SweepConfig) -> Vec<String> {
+    let (Ok(serde_json::Value::Object(a)), Ok(serde_json::Value::Object(b))) =
+        (serde_json::to_value(a), serde_json::to_value(b))
+    else {
+        return vec!["(unreadable)".into()];
+    };
+    let keys: std::collections::BTreeSet<&String> = a
+        .keys()
+        .chain(b.keys())
+        .filter(|k| a.get(*k) != b.get(*k))
+        .collect();
+    keys.into_iter().cloned().collect()
+}
+
+/// The progress bar, and the results files rewritten after every row.
+struct Writer<'a> {
+    dir: &'a Path,
+    bar: indicatif::ProgressBar,
+    error: Option<report::WriteError>,
+}
+
+impl Observer for Writer<'_> {
+    fn trial_starting(&mut self, p: Progress<'_>) {
+        self.bar.set_length(p.total as u64);
+        self.bar.set_position(p.done as u64);
+        self.bar.set_message(p.cell.label());
+    }
+
+    fn row_finished(&mut self, results: &Results) {
+        if let Err(e) = report::write_all(self.dir, results) {
+            self.error.get_or_insert(e);
+        }
+    }
+}
+
+/// The sweep to run and where its results go: a new one, or the rest of an interrupted one.
+fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf)>, CliError> {
+    let config = match &args.config {
+        Some(path) => Some(SweepConfig::load(path)?),
+        None => None,
+    };
+    let Some(dir) = &args.resume else {
+        let mut config = config.unwrap_or_default();
+        args.noise.apply(&mut config);
+        config.validate()?;
+        let dir = args.out.clone().unwrap_or_else(|| {
+            let stamp: String = sweep::utc_now()
+                .chars()
+                .filter(|c| c.is_ascii_alphanumeric())
+                .collect();
+            PathBuf::from("results").join(format!("{}-{stamp}", config.name))
+        });
+        prepare_out_dir(&dir)?;
+        let doctor = (!args.no_doctor).then(|| {
+            let [main, helper] = config.placement().expect("the config was validated");
+            let cores: Vec<usize> = if main == helper {
+                vec![main]
+            } else {
+                vec![main, helper]
+            };
+            let report = doctor::examine(&cores, Duration::from_secs(1));
+            eprintln!("oceanbench: {}", report.summary());
+            report
+        });
+        eprintln!("oceanbench: calibrating; results go to {}", dir.display());
+        let mut sweep = Sweep::prepare(config)?;
+        sweep.results.doctor = doctor;
+        return Ok(Some((sweep, dir)));
+    };
+    if args.noise != NoiseArgs::default() {
+        return Err(InputError(
+            "--resume: keeps the recorded config; --calibrate, --noise-threshold and --retry-noisy cannot change it".into(),
+        )
+        .into());
+    }
+    let previous = load_results(dir)?;
+    if let Some(config) = &config {
+        let differ = config_differences(config, &previous.config);
+        if !differ.is_empty() {
+            return Err(InputError(format!(
+                "--resume: the config differs from the one recorded in {} (fields: {}); \
+                 resume without a config, or start a new sweep",
+                dir.display(),
+                differ.join(", ")
+            ))
+            .into());
+        }
+    }
+    let sweep = Sweep::resume(previous)?;
+    if sweep.keys().is_empty() {
+        println!(
+            "Nothing to resume: every cell of the config is in {}",
+            dir.display()
+        );
+        return Ok(None);
+    }
+    eprintln!(
+        "oceanbench: resuming {}: {} cells to run",
+        dir.display(),
+        sweep.keys().len()
+    );
+    Ok(Some((sweep, results_dir(dir))))
+}
+
+pub(super) fn sweep(args: SweepArgs) -> Result<(), CliError> {
+    let stop = interrupt::flag();
+    let Some((sweep, dir)) = start(&args)? else {
+        return Ok(());
+    };
+    let sweep = sweep.stopping_on(stop);
+    let bar = if args.quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(0)
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:30}] {pos}/{len} trials, eta {eta} {msg}",
+        )
+        .expect("the template is valid")
+        .progress_chars("=> "),
+    );
+    let mut writer = Writer {
+        dir: &dir,
+        bar,
+        error: None,
+    };
+    let results = sweep.run(&mut writer);
+    writer.bar.finish_and_clear();
+    if let Some(e) = writer.error {
+        return Err(anyhow::anyhow!("writing results: {e}").into());
+    }
+    if results.finished.is_none() {
+        return Err(CliError::Interrupted(format!(
+            "interrupted; {} finished cells kept in {}. Resume with:\n  oceanbench sweep --resume {}",
+            results.cells.len(),
+            dir.display(),
+            dir.display()
+        )));
+    }
+    println!("{}", report::markdown::to_string(&results));
+    warn_about_placement(&results);
+    warn_about_noise(&results);
+    if !args.no_charts {
+        draw_charts(
+            std::slice::from_ref(&results),
+            &dir,
+            &ChartOptions::default(),
+        )?;
+    }
+    println!("Results: {}", dir.display());
+    fail_on_errors(&results)
+}
+
+/// Warns about rows whose yardstick drifted since the start and about cells that kept noisy
+/// trials, naming them.
+fn warn_about_noise(results: &Results) {
+    for line in report::markdown::noise_warnings(results) {
+        eprintln!("oceanbench: warning: {line}");
+    }
+}
+
+/// Warns about pins that did not hold and about the two cores moving mid-run.
+fn warn_about_placement(results: &Results) {
+    let unpinned = results
+        .cells
+        .iter()
+        .filter(|c| !c.pinned && c.error.is_none())
+        .count();
+    if unpinned > 0 {
+        eprintln!("oceanbench: warning: {unpinned} cell(s) ran with a pin the OS did not hold; see `pinned` in results.json");
+    }
+    if let Some((lo, hi)) = results.round_trip.changed() {
+        eprintln!(
+            "oceanbench: warning: the cross-core round trip ranged from {lo:.0} to {hi:.0} ns during the run: \
+             the two cores moved between near and far placements, so DP figures from different parts of the run differ"
+        );
+    }
+}

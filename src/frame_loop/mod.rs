@@ -1,0 +1,458 @@
+//! The game loops: `serial` (one thread does workload, mesh and copy) and threaded (a helper
+//! computes frame k's mesh while the main thread runs frame k's workload, then hands it over),
+//! with a persistent helper (`pool`) or a thread per frame (`spawn`). With `helpers` > 1 the
+//! mesh's rows are split into bands, one persistent helper per band, each with its own
+//! hand-off: the paper's future work, "do a portion of the grid on one thread, a portion on
+//! another".
+//!
+//! One file per loop; `frames.rs` counts frames against the budget, and `slots.rs` holds the
+//! shared mesh and the two sides of a threaded frame that touch it: every `unsafe` access to
+//! the slot is there.
+
+mod consume;
+mod frames;
+mod latest;
+mod pool;
+mod serial;
+mod slots;
+mod spawn;
+
+pub use consume::{read, Consume, ReadPass};
+
+use crate::affinity::{self, Pin};
+use crate::input::InputError;
+use crate::measure::Trial;
+use crate::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
+use crate::sched::{self, ThreadCounters, ThreadNoise, TrialNoise};
+use crate::sync::{Policy, SyncMethod};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+crate::named! {
+    /// Where the two threads run.
+    pub enum Mode {
+        /// One thread: workload, mesh step and copy in turn (the paper's non-threaded build).
+        Serial,
+        /// Main and helper threads pinned to the same core (uniprocessor).
+        Up,
+        /// Main and helper threads pinned to two different cores (dual processor).
+        Dp,
+    }
+}
+
+impl Mode {
+    /// Distinct cores the mode needs.
+    pub fn cores_needed(self) -> usize {
+        match self {
+            Mode::Dp => 2,
+            _ => 1,
+        }
+    }
+}
+
+crate::named! {
+    /// How the helper thread comes to exist.
+    pub enum Threading {
+        /// One persistent helper, created once (the paper's thread pool).
+        Pool,
+        /// A new helper thread every frame (the paper's first implementation).
+        Spawn,
+    }
+}
+
+/// Everything that defines one cell's loop.
+#[derive(Clone, Debug)]
+pub struct LoopSpec {
+    /// The mesh grid.
+    pub grid: Grid,
+    /// The waves summed.
+    pub waves: WaveSet,
+    /// How normals are computed.
+    pub normals: NormalMethod,
+    /// Which kernel fills the heights.
+    pub kernel: Kernel,
+    /// serial, up or dp.
+    pub mode: Mode,
+    /// Which frames the main thread consumes (ignored in `serial`).
+    pub policy: Policy,
+    /// The hand-off method (ignored in `serial`).
+    pub sync: SyncMethod,
+    /// Persistent or per-frame helper (ignored in `serial`).
+    pub threading: Threading,
+    /// Workload iterations the main thread runs per frame.
+    pub workload_iterations: u64,
+    /// Mesh slots in the ring: frames the helper may finish before the main thread consumes
+    /// the first of them (1: the paper's lockstep loop; ignored in `serial`).
+    pub depth: usize,
+    /// How the main thread consumes a mesh.
+    pub consume: Consume,
+    /// Core of the main thread.
+    pub main_core: usize,
+    /// Helper k's core, one per helper thread the mesh's rows are split among (one: the
+    /// paper's single helper; none in `serial`). See [`helper_cores`].
+    pub helper_cores: Vec<usize>,
+    /// Simulated seconds per frame: frame k's mesh is the surface at t = k · time_step.
+    pub time_step: f64,
+    /// How long a hand-off wait may take before the cell is aborted.
+    pub timeout: Duration,
+    /// Set from outside (Ctrl-C, SIGTERM) to stop the loop after the current frame.
+    pub stop: Option<Arc<AtomicBool>>,
+    /// Fault injection for testing the timeout: the helper stops producing at this frame.
+    pub stall_at_frame: Option<u64>,
+}
+
+impl LoopSpec {
+    /// Helper threads: one per helper core.
+    pub fn helpers(&self) -> usize {
+        self.helper_cores.len()
+    }
+
+    /// Checks what the loop needs: see [`check_helpers`] and [`check_depth`].
+    pub fn check(&self) -> Result<(), InputError> {
+        if self.mode == Mode::Serial {
+            return Ok(());
+        }
+        check_helpers(
+            self.helpers(),
+            self.mode,
+            self.threading,
+            self.normals,
+            self.grid.n,
+        )?;
+        check_depth(self.depth, self.threading)?;
+        check_policy(
+            self.policy,
+            self.sync,
+            self.depth,
+            self.helpers(),
+            self.threading,
+        )
+    }
+
+    fn stopped(&self) -> bool {
+        self.stop
+            .as_ref()
+            .is_some_and(|s| s.load(Ordering::Relaxed))
+    }
+
+    /// Runs frame k's workload; `Interrupted` when a stop request arrived meanwhile (it is
+    /// looked at every hundred microseconds or so of work).
+    fn workload(&self, k: u64) -> Result<(), LoopError> {
+        crate::workload::run_unless(self.workload_iterations, k, self.stop.as_deref())
+            .map(|_| ())
+            .ok_or(LoopError::Interrupted)
+    }
+
+    /// Fault injection: a helper that reaches `stall_at_frame` never publishes again, so the
+    /// main thread's timeout must end the cell.
+    fn stall_at(&self, frame: u64) {
+        if self.stall_at_frame == Some(frame) {
+            loop {
+                std::thread::park();
+            }
+        }
+    }
+
+    fn time_of(&self, frame: u64) -> f32 {
+        (frame as f64 * self.time_step) as f32
+    }
+
+    fn stalled(&self, who: &'static str) -> LoopError {
+        LoopError::Stalled {
+            sync: self.sync.name(),
+            mode: self.mode.name(),
+            who,
+            timeout: self.timeout,
+        }
+    }
+}
+
+/// Most mesh slots a ring may have.
+pub const MAX_DEPTH: usize = 4;
+
+/// Most helpers a loop may split the mesh among.
+pub const MAX_HELPERS: usize = 64;
+
+/// Refuses a run-ahead depth the loops cannot run: 1 to [`MAX_DEPTH`], and more than 1 only with a
+/// persistent helper (a thread per frame is joined inside its frame, so it cannot run ahead).
+pub fn check_depth(depth: usize, threading: Threading) -> Result<(), InputError> {
+    if !(1..=MAX_DEPTH).contains(&depth) {
+        return Err(InputError(format!(
+            "depth: must be 1 to {MAX_DEPTH}, got {depth}"
+        )));
+    }
+    if depth > 1 && threading == Threading::Spawn {
+        return Err(InputError(format!(
+            "depth: {depth} slots need threading `pool`; `spawn` joins its thread inside the frame, so it cannot run ahead"
+        )));
+    }
+    Ok(())
+}
+
+/// Refuses a method the `policy` cannot hand over with, and what `latest` has no use for: it
+/// runs one persistent helper that never waits, so a ring's depth, a second helper's band or
+/// a thread per frame mean nothing to it.
+pub fn check_policy(
+    policy: Policy,
+    sync: SyncMethod,
+    depth: usize,
+    helpers: usize,
+    threading: Threading,
+) -> Result<(), InputError> {
+    if !sync.serves(policy) {
+        let can: Vec<&str> = SyncMethod::of_policy(policy).map(|m| m.name()).collect();
+        return Err(InputError(format!(
+            "sync: `{sync}` cannot hand over under policy `{policy}`; the methods that can are {}",
+            can.join(", ")
+        )));
+    }
+    if policy == Policy::Latest {
+        if depth != 1 {
+            return Err(InputError(format!(
+                "depth: {depth} has no meaning under policy `latest`, where the helper never waits for a slot; use depth 1"
+            )));
+        }
+        if helpers != 1 {
+            return Err(InputError(format!(
+                "helpers: policy `latest` runs 1 helper, got {helpers}; bands of one frame would each need the others' mailbox"
+            )));
+        }
+        if threading != Threading::Pool {
+            return Err(InputError(format!(
+                "threading: policy `latest` needs `pool`, got `{threading}`; a thread per frame cannot run ahead of the main thread"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a helper count the loops cannot run, naming why; shared by configs, flags and
+/// `run` so every entry point gives the same message.
+pub fn check_helpers(
+    helpers: usize,
+    mode: Mode,
+    threading: Threading,
+    normals: NormalMethod,
+    size: usize,
+) -> Result<(), InputError> {
+    if !(1..=MAX_HELPERS).contains(&helpers) {
+        return Err(InputError(format!(
+            "helpers: must be 1 to {MAX_HELPERS}, got {helpers}"
+        )));
+    }
+    if helpers == 1 || mode == Mode::Serial {
+        return Ok(());
+    }
+    if threading == Threading::Spawn {
+        return Err(InputError(format!(
+            "helpers: {helpers} helpers need threading `pool`; `spawn` starts one thread per \
+             frame and is kept as the paper's single-helper first build"
+        )));
+    }
+    if helpers > size {
+        return Err(InputError(format!(
+            "helpers: {helpers} helpers need at least one row each; size {size} has {size} rows"
+        )));
+    }
+    Ocean::splits_into_rows(normals)
+}
+
+/// The cores of `helpers` helper threads: none in `serial`; in `up` they share the main core;
+/// in `dp` they cycle through the allowed cores from `helper_core` on, wrapping past the main
+/// core (on two cores with the defaults, helper 0 gets core 1 and helper 1 core 0).
+pub fn helper_cores(
+    mode: Mode,
+    main_core: usize,
+    helper_core: usize,
+    helpers: usize,
+) -> Vec<usize> {
+    match mode {
+        Mode::Serial => Vec::new(),
+        Mode::Up => vec![main_core; helpers],
+        Mode::Dp => {
+            let allowed = affinity::allowed_cores();
+            let start = allowed.iter().position(|&c| c == helper_core).unwrap_or(0);
+            allowed
+                .iter()
+                .cycle()
+                .skip(start)
+                .take(helpers)
+                .copied()
+                .collect()
+        }
+    }
+}
+
+/// When a trial stops.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Budget {
+    /// Frames run and thrown away before measuring.
+    pub warmup_frames: u64,
+    /// Measured frames at least ...
+    pub min_frames: u64,
+    /// ... and measured seconds at least ...
+    pub min_seconds: f64,
+    /// ... unless this many seconds have passed (with at least one frame).
+    pub max_seconds: f64,
+}
+
+impl Budget {
+    /// Exactly `frames` measured frames, no warm-up, no time limits (for tests and checks).
+    pub fn exact(frames: u64) -> Budget {
+        Budget {
+            warmup_frames: 0,
+            min_frames: frames,
+            min_seconds: 0.0,
+            max_seconds: f64::INFINITY,
+        }
+    }
+
+    fn met(&self, frames: u64, seconds: f64) -> bool {
+        (frames >= self.min_frames && seconds >= self.min_seconds)
+            || (frames >= 1 && seconds >= self.max_seconds)
+    }
+}
+
+/// Why a loop did not finish.
+#[derive(Debug, thiserror::Error)]
+pub enum LoopError {
+    /// A hand-off wait passed its timeout.
+    #[error("{sync} hand-off in {mode} mode: {who} waited over {timeout:?}; cell aborted")]
+    Stalled {
+        /// The method's name.
+        sync: &'static str,
+        /// The mode's name.
+        mode: &'static str,
+        /// Which side was waiting.
+        who: &'static str,
+        /// The timeout that passed.
+        timeout: Duration,
+    },
+    /// The helper thread panicked or could not be started.
+    #[error("helper thread failed: {0}")]
+    Helper(String),
+    /// The spec is not runnable (e.g. `lookup` on too large a grid).
+    #[error(transparent)]
+    Spec(#[from] InputError),
+    /// The stop flag was raised; the trial is incomplete.
+    #[error("interrupted")]
+    Interrupted,
+}
+
+/// The outcome of one loop: the measured frames, how the pins went and what disturbed it.
+#[derive(Clone, Debug)]
+pub struct LoopRun {
+    /// Measured frames.
+    pub trial: Trial,
+    /// Main thread's pin.
+    pub main_pin: Pin,
+    /// Every helper's pin, helper k at index k (empty in `serial`; in `spawn`, the per-frame
+    /// threads together: held only if every one held).
+    pub helper_pins: Vec<Pin>,
+    /// Each thread's run delay and preemptions, and each core's steal, during the loop.
+    pub noise: TrialNoise,
+}
+
+impl LoopRun {
+    /// Whether every pin of the loop held.
+    pub fn pinned(&self) -> bool {
+        self.main_pin.held && self.helper_pins.iter().all(|p| p.held)
+    }
+}
+
+/// A thread's scheduler counters from its start: what it suffered is read when it ends.
+#[derive(Clone, Copy)]
+struct ThreadWatch {
+    core: usize,
+    start: Option<ThreadCounters>,
+}
+
+impl ThreadWatch {
+    /// Starts watching the calling thread, pinned to `core`.
+    fn start(core: usize) -> ThreadWatch {
+        ThreadWatch {
+            core,
+            start: ThreadCounters::now(),
+        }
+    }
+
+    /// What the calling thread suffered since `start`, named `thread`.
+    fn stop(self, thread: String) -> ThreadNoise {
+        let delta = match (ThreadCounters::now(), self.start) {
+            (Some(end), Some(start)) => end.since(start),
+            _ => ThreadCounters::default(),
+        };
+        ThreadNoise {
+            thread,
+            core: self.core,
+            cpu_ns: delta.cpu_ns,
+            run_delay_ns: delta.run_delay_ns,
+            involuntary_switches: delta.involuntary_switches,
+        }
+    }
+}
+
+/// The wall clock and the pinned cores' steal over a whole loop.
+struct CoreWatch {
+    started: Instant,
+    cores: Vec<usize>,
+    steal: Option<Vec<u64>>,
+}
+
+impl CoreWatch {
+    fn start(spec: &LoopSpec) -> CoreWatch {
+        let mut cores = vec![spec.main_core];
+        cores.extend(&spec.helper_cores);
+        cores.sort_unstable();
+        cores.dedup();
+        CoreWatch {
+            started: Instant::now(),
+            steal: sched::steal_ns(&cores),
+            cores,
+        }
+    }
+
+    fn stop(self, threads: Vec<ThreadNoise>) -> TrialNoise {
+        let steal_ns = match (sched::steal_ns(&self.cores), self.steal) {
+            (Some(end), Some(start)) => self
+                .cores
+                .iter()
+                .zip(end.iter().zip(start))
+                .map(|(&c, (e, s))| (c, e.saturating_sub(s)))
+                .collect(),
+            _ => Vec::new(),
+        };
+        TrialNoise {
+            wall_ns: self.started.elapsed().as_nanos() as u64,
+            threads,
+            steal_ns,
+        }
+    }
+}
+
+/// Runs one loop on a fresh main thread (so the caller's own CPU mask is never changed) and
+/// calls `observe(index, mesh)` after every frame's consumption, warm-up frames included, with
+/// the mesh as consumed (the render buffer under `copy`) and the frame index it was computed
+/// for: under `fifo` the frame's own, under `latest` the newest the helper had finished, so
+/// indices may repeat or skip but never decrease.
+pub fn run<F>(spec: &LoopSpec, budget: &Budget, observe: F) -> Result<LoopRun, LoopError>
+where
+    F: FnMut(u64, &Mesh) + Send,
+{
+    spec.check()?;
+    let ocean = Ocean::new(spec.grid, spec.waves.clone(), spec.normals, spec.kernel)?;
+    std::thread::scope(|s| {
+        std::thread::Builder::new()
+            .name("ocean-main".into())
+            .spawn_scoped(s, move || match (spec.mode, spec.threading) {
+                (Mode::Serial, _) => serial::run(spec, budget, ocean, observe),
+                _ if spec.policy == Policy::Latest => latest::run(spec, budget, ocean, observe),
+                (_, Threading::Pool) => pool::run(spec, budget, ocean, observe),
+                (_, Threading::Spawn) => spawn::run(spec, budget, ocean, observe),
+            })
+            .map_err(|e| LoopError::Helper(e.to_string()))?
+            .join()
+            .map_err(|_| LoopError::Helper("main loop thread panicked".into()))?
+    })
+}

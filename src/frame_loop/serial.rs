@@ -1,0 +1,59 @@
+//! The paper's non-threaded build: one thread runs the workload, the mesh step and the copy in
+//! turn.
+
+use super::consume;
+use super::frames::FrameCounter;
+use super::slots::ns;
+use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
+use crate::affinity;
+use crate::measure::FrameRecord;
+use crate::ocean::{Mesh, Ocean};
+use std::time::Instant;
+
+/// Runs the loop on the calling thread until the budget is met.
+pub(super) fn run<F: FnMut(u64, &Mesh)>(
+    spec: &LoopSpec,
+    budget: &Budget,
+    mut ocean: Ocean,
+    mut observe: F,
+) -> Result<LoopRun, LoopError> {
+    let main_pin = affinity::pin_current(spec.main_core);
+    let (cores, main) = (CoreWatch::start(spec), ThreadWatch::start(spec.main_core));
+    let mut mesh = Mesh::new(spec.grid);
+    let mut render = Mesh::new(spec.grid);
+    let mut frames = FrameCounter::new(budget);
+    loop {
+        let k = frames.frame;
+        let t0 = frames.start();
+        spec.workload(k)?;
+        let t1 = Instant::now();
+        ocean.step(spec.time_of(k), &mut mesh);
+        let t2 = Instant::now();
+        let (consumed, read) = consume::apply(spec.consume, &mesh, &mut render);
+        if let Some(sum) = read {
+            frames.read(sum);
+        }
+        observe(k, consumed);
+        let t3 = Instant::now();
+        let record = FrameRecord {
+            total_ns: ns(t3 - t0),
+            workload_ns: ns(t1 - t0),
+            wait_ns: 0,
+            copy_ns: ns(t3 - t2),
+            step_ns: ns(t2 - t1),
+            // The mesh is used in the frame it was computed in, from the step's start.
+            latency_ns: ns(t2 - t1),
+            mesh_frame: k,
+            ..FrameRecord::default()
+        };
+        if frames.finish(record, spec)? {
+            break;
+        }
+    }
+    Ok(LoopRun {
+        trial: frames.trial(),
+        main_pin,
+        helper_pins: Vec::new(),
+        noise: cores.stop(vec![main.stop("main".into())]),
+    })
+}

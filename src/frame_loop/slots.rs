@@ -1,0 +1,306 @@
+//! The ring of mesh slots the helpers write and the main thread consumes, and the two steps of a
+//! threaded frame that touch it: every `unsafe` access to the slots is in this file.
+//!
+//! The slots are sound because of the ring protocol, which only these steps follow: frame k
+//! lives in slot k mod depth; helper h writes its band of that slot and its stamp only after its
+//! ring's `wait_free` said the slot is free (the main thread released the frame that last used
+//! it), and the main thread reads a slot only after every helper published its frame there and
+//! before it releases it. Each pair of sides is a release/acquire edge of the helper's ring.
+
+use super::consume::{self, Consume};
+use super::frames::FrameCounter;
+use super::{LoopError, LoopSpec};
+use crate::measure::FrameRecord;
+use crate::ocean::{Grid, Mesh, MeshRows, Ocean};
+use crate::sched;
+use crate::sync::{Handoff, Slot};
+use std::cell::UnsafeCell;
+use std::ops::Range;
+use std::time::{Duration, Instant};
+
+/// What a helper leaves next to its band of a slot: which frame it holds, how long it took, and
+/// when it was started and published.
+#[derive(Clone, Copy)]
+struct Stamp {
+    index: u64,
+    step_ns: u64,
+    started: Instant,
+    published: Instant,
+    /// The helper's wait for this slot to be free: wall and CPU time.
+    waited: Waited,
+}
+
+/// How long a wait took, on the wall clock and on the waiting thread's CPU clock.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Waited {
+    pub ns: u64,
+    pub cpu_ns: u64,
+}
+
+/// Times a wait on both clocks.
+pub(super) fn timed<T>(wait: impl FnOnce() -> T) -> (T, Waited) {
+    let (t0, c0) = (Instant::now(), sched::thread_cpu_ns().unwrap_or(0));
+    let out = wait();
+    let waited = Waited {
+        ns: ns(t0.elapsed()),
+        cpu_ns: sched::thread_cpu_ns().unwrap_or(0).saturating_sub(c0),
+    };
+    (out, waited)
+}
+
+/// One helper's share of every frame: its rows, its ring and its stamp in each slot.
+pub(super) struct Part {
+    rows: Range<usize>,
+    /// The ring between this helper and the main thread.
+    pub handoff: Box<dyn Handoff>,
+    stamps: Vec<Slot<Stamp>>,
+}
+
+/// One mesh of the ring, with the base pointers of its arrays, taken while the mesh was
+/// uniquely owned so helpers can make disjoint band slices without a `&mut Mesh` at once.
+struct MeshSlot {
+    mesh: UnsafeCell<Mesh>,
+    base: [*mut f32; 6],
+}
+
+/// The ring of `depth` meshes, each split among the helpers in bands of whole rows, with one
+/// ring hand-off per helper (so every sync method works unchanged for any helper count).
+pub(super) struct Shared {
+    slots: Vec<MeshSlot>,
+    /// One per helper.
+    pub parts: Vec<Part>,
+}
+
+// SAFETY: the meshes and stamps are only touched under the ring protocol described at the top
+// of this file; helpers write disjoint rows. The raw pointers point into the meshes' buffers,
+// which are never resized.
+unsafe impl Sync for Shared {}
+// SAFETY: as above; the pointers are owned data of the meshes, which move with them.
+unsafe impl Send for Shared {}
+
+impl Shared {
+    /// A ring of `spec.depth` meshes for `spec`'s grid, split evenly among `spec.helpers()`.
+    pub fn new(spec: &LoopSpec) -> Shared {
+        let depth = spec.depth.max(1);
+        let slots = (0..depth)
+            .map(|_| {
+                let mut mesh = Mesh::new(spec.grid);
+                let base = [
+                    mesh.x.as_mut_ptr(),
+                    mesh.y.as_mut_ptr(),
+                    mesh.z.as_mut_ptr(),
+                    mesh.nx.as_mut_ptr(),
+                    mesh.ny.as_mut_ptr(),
+                    mesh.nz.as_mut_ptr(),
+                ];
+                MeshSlot {
+                    mesh: UnsafeCell::new(mesh),
+                    base,
+                }
+            })
+            .collect();
+        let now = Instant::now();
+        let blank = Stamp {
+            index: u64::MAX,
+            step_ns: 0,
+            started: now,
+            published: now,
+            waited: Waited::default(),
+        };
+        let (n, h) = (spec.grid.n, spec.helpers().max(1));
+        let parts = (0..h)
+            .map(|k| Part {
+                rows: k * n / h..(k + 1) * n / h,
+                handoff: spec.sync.handoff(depth),
+                stamps: (0..depth).map(|_| Slot::new(blank)).collect(),
+            })
+            .collect();
+        Shared { slots, parts }
+    }
+
+    /// Stops every helper: any waiting one returns `Shutdown`.
+    pub fn shutdown(&self) {
+        for part in &self.parts {
+            part.handoff.shutdown();
+        }
+    }
+
+    fn slot_of(&self, frame: u64) -> usize {
+        (frame % self.slots.len() as u64) as usize
+    }
+
+    /// Helper k's band of slot `s`.
+    ///
+    /// # Safety
+    /// The caller is helper k, its ring gave it slot `s`, and it is one of several helpers (a
+    /// lone helper uses the whole mesh), so only disjoint bands are alive.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn band(&self, s: usize, k: usize) -> MeshRows<'_> {
+        let grid = self.grid();
+        let rows = self.parts[k].rows.clone();
+        let (start, len) = (rows.start * grid.n, rows.len() * grid.n);
+        let base = &self.slots[s].base;
+        // SAFETY: `start + len` is within the mesh's N² elements; x and y are never written,
+        // and the z..nz rows of different helpers do not overlap (bands partition the rows).
+        unsafe {
+            let read = |p: *mut f32| std::slice::from_raw_parts(p.add(start), len);
+            let write = |p: *mut f32| std::slice::from_raw_parts_mut(p.add(start), len);
+            MeshRows {
+                grid,
+                first_row: rows.start,
+                x: read(base[0]),
+                y: read(base[1]),
+                z: write(base[2]),
+                nx: write(base[3]),
+                ny: write(base[4]),
+                nz: write(base[5]),
+            }
+        }
+    }
+
+    fn grid(&self) -> Grid {
+        // SAFETY: `grid` is never written after construction, so reading it races with nothing.
+        unsafe { (*self.slots[0].mesh.get()).grid }
+    }
+}
+
+/// Helper `h`'s side of frame k: compute its rows of the frame into its slot and publish them.
+/// The caller's ring has just said the slot is free, after a wait of `waited`.
+pub(super) fn produce(
+    spec: &LoopSpec,
+    k: u64,
+    ocean: &mut Ocean,
+    shared: &Shared,
+    h: usize,
+    waited: Waited,
+) {
+    spec.stall_at(k);
+    let part = &shared.parts[h];
+    let s = shared.slot_of(k);
+    let t = spec.time_of(k);
+    let started = Instant::now();
+    if shared.parts.len() == 1 {
+        // SAFETY: the only helper owns the free slot, so nobody else touches its mesh.
+        ocean.step(t, unsafe { &mut *shared.slots[s].mesh.get() });
+    } else {
+        // SAFETY: helper h owns its band of the free slot; other helpers only touch theirs.
+        ocean.step_rows(t, unsafe { shared.band(s, h) });
+    }
+    let published = Instant::now();
+    // SAFETY: the stamp of a free slot belongs to helper h until it publishes.
+    unsafe {
+        *part.stamps[s].get_mut() = Stamp {
+            index: k,
+            step_ns: ns(published - started),
+            started,
+            published,
+            waited,
+        };
+    }
+    part.handoff.publish();
+}
+
+/// The main thread's side of threaded frame k: workload, wait for every helper's frame k,
+/// consume it, and release the frames its consumption no longer holds (every one for `copy`
+/// and `read`; with `handle`, all but the latest depth − 1).
+pub(super) fn consume<F: FnMut(u64, &Mesh)>(
+    spec: &LoopSpec,
+    frames: &mut FrameCounter,
+    shared: &Shared,
+    render: &mut Mesh,
+    held: &mut u64,
+    observe: &mut F,
+) -> Result<FrameRecord, LoopError> {
+    let k = frames.frame;
+    let t0 = frames.start();
+    spec.workload(k)?;
+    let t1 = Instant::now();
+    let deadline = t1 + spec.timeout;
+    let (published_all, main_waited) = timed(|| {
+        for part in &shared.parts {
+            // In slices, so that a stop request ends a long wait too.
+            loop {
+                let slice = deadline.min(Instant::now() + STOP_CHECK);
+                match part.handoff.wait_published(k, slice) {
+                    Ok(()) => break,
+                    Err(_) if Instant::now() >= deadline => {
+                        return Err(spec.stalled("the main thread (waiting for the mesh)"))
+                    }
+                    Err(_) if spec.stopped() => return Err(LoopError::Interrupted),
+                    Err(_) => {}
+                }
+            }
+        }
+        Ok(())
+    });
+    published_all?;
+    let t2 = Instant::now();
+    let s = shared.slot_of(k);
+    // SAFETY: every helper published frame k into slot s and none has it released, so no
+    // helper writes it until this thread releases it below.
+    let mesh = unsafe { &*shared.slots[s].mesh.get() };
+    let (consumed, read) = consume::apply(spec.consume, mesh, render);
+    if let Some(sum) = read {
+        frames.read(sum);
+    }
+    // The frame's step is its slowest band; its age runs from the last band's publication.
+    let mut step_ns = 0;
+    let mut helpers_waited = Waited::default();
+    let mut started = t2;
+    let mut published = None;
+    let mut wrong = None;
+    for part in &shared.parts {
+        // SAFETY: as above, the stamp is published and not yet released.
+        let stamp = unsafe { part.stamps[s].get() };
+        step_ns = step_ns.max(stamp.step_ns);
+        helpers_waited.ns = helpers_waited.ns.max(stamp.waited.ns);
+        helpers_waited.cpu_ns += stamp.waited.cpu_ns;
+        started = started.min(stamp.started);
+        published = Some(published.map_or(stamp.published, |p: Instant| p.max(stamp.published)));
+        if stamp.index != k {
+            wrong = Some(stamp.index);
+        }
+    }
+    let ahead = shared.parts[0].handoff.published().saturating_sub(k + 1);
+    observe(k, consumed);
+    *held += 1;
+    let keep = match spec.consume {
+        Consume::Handle => shared.slots.len() as u64 - 1,
+        Consume::Copy | Consume::Read => 0,
+    };
+    while *held > keep {
+        for part in &shared.parts {
+            part.handoff.release();
+        }
+        *held -= 1;
+    }
+    let t3 = Instant::now();
+    if let Some(index) = wrong {
+        return Err(LoopError::Helper(format!(
+            "frame {k} expected, helper delivered frame {index}"
+        )));
+    }
+    Ok(FrameRecord {
+        total_ns: ns(t3 - t0),
+        workload_ns: ns(t1 - t0),
+        wait_ns: ns(t2 - t1),
+        wait_cpu_ns: main_waited.cpu_ns,
+        copy_ns: ns(t3 - t2),
+        step_ns,
+        helper_wait_ns: helpers_waited.ns,
+        helper_wait_cpu_ns: helpers_waited.cpu_ns,
+        other_ns: 0,
+        age_frames: ahead.min(u64::from(u32::MAX)) as u32,
+        age_ns: published.map_or(0, |p| ns(t2.saturating_duration_since(p))),
+        latency_ns: ns(t2.saturating_duration_since(started)),
+        mesh_frame: k,
+    })
+}
+
+/// The longest a wait goes without looking at the stop flag.
+const STOP_CHECK: Duration = Duration::from_millis(50);
+
+/// Nanoseconds of a duration, as frame records keep them.
+pub(super) fn ns(d: Duration) -> u64 {
+    d.as_nanos() as u64
+}

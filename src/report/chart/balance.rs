@@ -1,0 +1,149 @@
+//! How much work the second core can hide: DP ÷ serial against W ÷ S for every searched cell,
+//! the ideal (W + S) / max(W, S), each balance point with its bracket, and the run's workload
+//! levels on the same axis.
+
+use super::bars::shade;
+use super::render::{Body, Chart, Frame, Legend, Trace, TracePanel, TracePlot};
+use super::{NothingToDraw, Runs, CHART_SIZE};
+use crate::cell::Dim;
+use crate::stats;
+use plotters::style::RGBColor;
+
+const IDEAL: RGBColor = RGBColor(0xd5, 0x5e, 0x00);
+const LEVEL: RGBColor = RGBColor(0x99, 0x99, 0x99);
+
+/// One colour per searched cell in a panel.
+fn cell_color(i: usize) -> RGBColor {
+    const PALETTE: [RGBColor; 5] = [
+        RGBColor(0x00, 0x72, 0xb2),
+        RGBColor(0x00, 0x9e, 0x73),
+        RGBColor(0xcc, 0x79, 0xa7),
+        RGBColor(0xe6, 0x9f, 0x00),
+        RGBColor(0x56, 0xb4, 0xe9),
+    ];
+    shade(PALETTE[i % PALETTE.len()], i / PALETTE.len())
+}
+
+/// The speed-up curve of every searched cell, one panel per size.
+pub(super) fn balance(runs: &Runs) -> Result<Chart, NothingToDraw> {
+    let entries: Vec<_> = runs
+        .runs
+        .iter()
+        .flat_map(|r| r.results.balance.iter().map(move |e| (r, e)))
+        .collect();
+    if entries.is_empty() {
+        return Err(NothingToDraw::new("no balance search in the results"));
+    }
+    let mut sizes: Vec<usize> = entries.iter().map(|(_, e)| e.key.size).collect();
+    sizes.sort_unstable();
+    sizes.dedup();
+    let mut legend = vec![Legend::line("ideal (W + S) / max(W, S)", IDEAL)];
+    let mut panels = Vec::new();
+    for size in sizes {
+        let mut traces = Vec::new();
+        let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+        for (i, (run, e)) in entries
+            .iter()
+            .filter(|(_, e)| e.key.size == size)
+            .enumerate()
+        {
+            let color = cell_color(i);
+            let points: Vec<(f64, f64, String)> = e
+                .probes
+                .iter()
+                .map(|p| {
+                    (
+                        p.workload_us / e.step_us,
+                        stats::mean(&p.fps) / stats::mean(&p.serial_fps),
+                        String::new(),
+                    )
+                })
+                .collect();
+            for p in &points {
+                lo = lo.min(p.0);
+                hi = hi.max(p.0);
+            }
+            let name = runs.series(run, &e.key.label_without(&[Dim::Workload, Dim::Size]));
+            if !legend.iter().any(|l| l.name == name) {
+                legend.push(Legend::boxed(name, color));
+            }
+            traces.push(Trace { color, points });
+            if let (Some(b), Some(l), Some(h), Some(r)) = (
+                e.balance_us,
+                e.balance_us_low,
+                e.balance_us_high,
+                e.dp_over_serial,
+            ) {
+                let s = e.step_us;
+                traces.push(Trace {
+                    color,
+                    points: vec![
+                        (l / s, r, String::new()),
+                        (b / s, r, format!("balance {:.2}·S: {r:.2}×", b / s)),
+                        (h / s, r, String::new()),
+                    ],
+                });
+            }
+            for level in run
+                .results
+                .calibration
+                .levels
+                .iter()
+                .filter(|l| l.micros > 0.0)
+            {
+                let x = level.micros / e.step_us;
+                if (lo..=hi).contains(&x) || lo.is_infinite() {
+                    traces.push(Trace {
+                        color: LEVEL,
+                        points: vec![
+                            (x, 0.0, String::new()),
+                            (x, 2.0, format!("w{}", level.workload)),
+                        ],
+                    });
+                }
+            }
+        }
+        if lo.is_finite() {
+            let ideal = (0..=60)
+                .map(|i| {
+                    let x = lo * (hi / lo).powf(i as f64 / 60.0);
+                    (x, (x + 1.0) / x.max(1.0), String::new())
+                })
+                .collect();
+            traces.insert(
+                0,
+                Trace {
+                    color: IDEAL,
+                    points: ideal,
+                },
+            );
+        }
+        panels.push(TracePanel {
+            caption: format!("{size}×{size} mesh"),
+            traces,
+        });
+    }
+    let mut lines = runs.machine_lines();
+    lines.push(
+        "Each line: DP ÷ serial FPS (mean of paired trials) against the main thread's workload W over the helper's step S; \
+         the horizontal bar marks the balance point's bracket; grey lines are the run's workload levels."
+            .into(),
+    );
+    legend.push(Legend::line("workload levels w1-w3", LEVEL));
+    Ok(Chart {
+        frame: Frame {
+            title: "Where the two threads balance: DP speed-up against main-thread work".into(),
+            lines,
+            legend,
+            notes: Vec::new(),
+        },
+        body: Body::Traces(TracePlot {
+            panels,
+            x_desc: "main-thread workload W ÷ helper step S (log scale)".into(),
+            y_desc: "DP ÷ serial FPS (×)".into(),
+            log_x: true,
+            y_format: |v| format!("{v:.2}"),
+        }),
+        size: CHART_SIZE,
+    })
+}

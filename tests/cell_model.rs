@@ -1,0 +1,303 @@
+//! Every declared dimension reaches every place that deals with cells: config keys and their
+//! validation, the sweep's expansion, labels, the CSV columns, the markdown tables,
+//! `compare --by` and the chart variants. A dimension that one of them forgets fails here.
+//!
+//! Also the two bugs that motivated the cell model (the CSV and `compare --by mode` ignored
+//! `helpers`), and old results files loading.
+
+use oceanbench::cell::{Axes, Dim, Value};
+use oceanbench::config::SweepConfig;
+use oceanbench::measure::{FrameRecord, Summary, Trial};
+use oceanbench::report::chart::{self, ChartFormat, ChartOptions};
+use oceanbench::report::compare::{self, Metric};
+use oceanbench::report::{csv, markdown};
+use oceanbench::results::{Cell, CellKey, Pins, Results};
+use serde_json::json;
+use std::path::Path;
+
+/// Two values of `dim` and config keys under which cells with both can run. Every dimension
+/// must have an entry: a new one fails `every_dimension_has_test_values` until it is added here.
+fn case(dim: Dim) -> Option<(serde_json::Value, serde_json::Value, serde_json::Value)> {
+    let (a, b, extra) = match dim {
+        Dim::Size => (json!(16), json!(24), json!({})),
+        Dim::Workload => (json!(0), json!(1), json!({})),
+        Dim::Mode => (json!("up"), json!("dp"), json!({})),
+        Dim::Policy => (json!("fifo"), json!("latest"), json!({})),
+        Dim::Sync => (json!("atomic"), json!("condvar"), json!({})),
+        Dim::Threading => (json!("pool"), json!("spawn"), json!({})),
+        Dim::Helpers => (json!(1), json!(2), json!({"normals": ["analytic"]})),
+        Dim::Depth => (json!(1), json!(2), json!({})),
+        Dim::Consume => (json!("copy"), json!("handle"), json!({})),
+        Dim::Normals => (json!("neighbors"), json!("analytic"), json!({})),
+        Dim::Kernel => (json!("reference"), json!("fast"), json!({})),
+        #[allow(unreachable_patterns)]
+        _ => return None,
+    };
+    Some((a, b, extra))
+}
+
+/// A one-cell-per-value config: every list has one value but `dim`, which has two.
+fn config(dim: Dim) -> SweepConfig {
+    let (a, b, extra) = case(dim).expect("every dimension has a case");
+    let mut text = json!({
+        "sizes": [16], "workloads": [0], "modes": ["up"], "sync": ["atomic"],
+        "threading": ["pool"], "helpers": [1], "depth": [1], "consume": ["copy"],
+        "normals": ["neighbors"], "kernel": ["reference"],
+        "trials": 2
+    });
+    for (k, v) in extra.as_object().unwrap() {
+        text[k] = v.clone();
+    }
+    text[dim.config_key()] = json!([a, b]);
+    SweepConfig::from_json(&text.to_string()).unwrap_or_else(|e| panic!("{dim}: {e}"))
+}
+
+/// A summary whose every trial runs at exactly `fps`.
+fn summary(fps: f64) -> Summary {
+    let frame = FrameRecord {
+        total_ns: (1e9 / fps) as u64,
+        ..FrameRecord::default()
+    };
+    let trial = Trial {
+        frames: vec![frame; 10],
+        ..Trial::default()
+    };
+    Summary::of(&[trial.clone(), trial]).unwrap()
+}
+
+fn cell(key: CellKey, fps: f64) -> Cell {
+    Cell {
+        key,
+        workload_iterations: 0,
+        summary: Some(summary(fps)),
+        pinned: true,
+        pins: Pins {
+            main_core: 0,
+            helper_core: None,
+            main_held: true,
+            helper_held: None,
+        },
+        error: None,
+        calibration: None,
+        noise: None,
+    }
+}
+
+/// A results file holding `cells` under `config`, on the fixture's machine.
+fn results(config: SweepConfig, cells: Vec<Cell>) -> Results {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json");
+    let template = Results::load(&path).expect("fixture loads");
+    Results {
+        config,
+        cells,
+        ..template
+    }
+}
+
+#[test]
+fn every_dimension_has_test_values() {
+    for &dim in Dim::ALL {
+        assert!(case(dim).is_some(), "add test values for {dim} to `case`");
+    }
+}
+
+#[test]
+fn every_dimension_has_a_config_key_default_and_validation() {
+    let keys = SweepConfig::keys();
+    for &dim in Dim::ALL {
+        assert!(keys.iter().any(|k| k == dim.config_key()), "{dim}");
+        assert!(
+            !Axes::default().values(dim).is_empty(),
+            "{dim} has a default"
+        );
+        let bad = json!({ dim.config_key(): ["no such value"] }).to_string();
+        let err = SweepConfig::from_json(&bad).unwrap_err().to_string();
+        assert!(
+            err.contains(&format!("{}[0]", dim.config_key())),
+            "{dim}: {err}"
+        );
+        let empty = json!({ dim.config_key(): [] }).to_string();
+        let err = SweepConfig::from_json(&empty).unwrap_err().to_string();
+        assert!(err.contains(dim.config_key()), "{dim}: {err}");
+    }
+}
+
+/// The two cells of `config(dim)`: the same in every dimension but `dim`.
+fn pair(dim: Dim) -> (CellKey, CellKey) {
+    let cells = config(dim).axes.cells();
+    assert_eq!(cells.len(), 2, "{dim}: {cells:?}");
+    let (a, b) = (cells[0].clone(), cells[1].clone());
+    for &other in Dim::ALL.iter().filter(|&&d| d != dim) {
+        assert_eq!(a.get(other), b.get(other), "{dim}: {other} differs");
+    }
+    assert_ne!(
+        a.get(dim),
+        b.get(dim),
+        "{dim}: the two values were not expanded"
+    );
+    (a, b)
+}
+
+#[test]
+fn every_dimension_is_expanded_labelled_and_written_to_csv() {
+    for &dim in Dim::ALL {
+        let (a, b) = pair(dim);
+        assert_ne!(a.label(), b.label(), "{dim}");
+        let r = results(
+            config(dim),
+            vec![cell(a.clone(), 125.0), cell(b.clone(), 250.0)],
+        );
+        let text = csv::to_string(&r).unwrap();
+        let mut reader = ::csv::Reader::from_reader(text.as_bytes());
+        let header = reader.headers().unwrap().clone();
+        let column = header
+            .iter()
+            .position(|h| h == dim.name())
+            .unwrap_or_else(|| panic!("no {dim} column in {header:?}"));
+        let values: Vec<String> = reader
+            .records()
+            .map(|r| r.unwrap()[column].to_string())
+            .collect();
+        let want: Vec<String> = [&a, &b]
+            .iter()
+            .map(|k| k.get(dim).unwrap().to_string())
+            .collect();
+        assert_eq!(values, want, "{dim}");
+    }
+}
+
+#[test]
+fn every_dimension_keeps_its_cells_apart_in_markdown_and_compare() {
+    for &dim in Dim::ALL {
+        let (a, b) = pair(dim);
+        let baseline = a.get(dim).unwrap().to_string();
+        let r = results(config(dim), vec![cell(a, 125.0), cell(b, 250.0)]);
+        let md = markdown::to_string(&r);
+        assert!(
+            md.contains("| 125 ±") && md.contains("| 250 ±"),
+            "{dim}:\n{md}"
+        );
+        let c = compare::within(&r, dim, &baseline, 5.0, Metric::Fps)
+            .unwrap_or_else(|e| panic!("{dim}: {e}"));
+        assert_eq!(c.changes.len(), 1, "{dim}: {c:?}");
+        assert_eq!(
+            (c.changes[0].base, c.changes[0].new),
+            (125.0, 250.0),
+            "{dim}"
+        );
+    }
+}
+
+/// Whether an SVG shows `text` as a whole text element (plotters writes each on its own line).
+fn shows(svg: &str, text: &str) -> bool {
+    svg.contains(&format!("\n{text}\n"))
+}
+
+fn figure_svg(r: &Results, select: Vec<(Dim, Value)>) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    let options = ChartOptions {
+        formats: vec![ChartFormat::Svg],
+        select,
+    };
+    chart::draw_with(std::slice::from_ref(r), dir.path(), &options).unwrap();
+    std::fs::read_to_string(dir.path().join("figure-5-1.svg")).unwrap()
+}
+
+#[test]
+fn every_dimension_is_laid_out_or_selectable_in_the_charts() {
+    for &dim in Dim::ALL {
+        let (a, b) = pair(dim);
+        let (va, vb) = (a.get(dim).unwrap(), b.get(dim).unwrap());
+        let r = results(config(dim), vec![cell(a, 125.0), cell(b, 250.0)]);
+        let both = figure_svg(&r, vec![]);
+        if shows(&both, "125") && shows(&both, "250") {
+            continue; // the chart lays the dimension out itself
+        }
+        let only_a = figure_svg(&r, vec![(dim, va)]);
+        let only_b = figure_svg(&r, vec![(dim, vb)]);
+        assert!(shows(&only_a, "125") && !shows(&only_a, "250"), "{dim}");
+        assert!(shows(&only_b, "250") && !shows(&only_b, "125"), "{dim}");
+        assert!(
+            only_b.contains(&dim.title(vb)),
+            "{dim}: the subtitle names the value"
+        );
+    }
+}
+
+/// Regression: results.csv had no `helpers` column, so 1 and 2 helpers were indistinguishable.
+#[test]
+fn csv_tells_helper_counts_apart() {
+    let (a, b) = pair(Dim::Helpers);
+    let r = results(config(Dim::Helpers), vec![cell(a, 125.0), cell(b, 250.0)]);
+    let text = csv::to_string(&r).unwrap();
+    let mut lines = text.lines();
+    let column = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .position(|h| h == "helpers")
+        .expect("a helpers column");
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), 2);
+    assert_ne!(
+        rows[0].split(',').nth(column),
+        rows[1].split(',').nth(column),
+        "{text}"
+    );
+}
+
+/// Regression: `compare --by mode` paired cells with different helper counts under one label.
+#[test]
+fn compare_by_mode_pairs_equal_helper_counts_only() {
+    let config = SweepConfig::from_json(
+        r#"{"sizes": [16], "workloads": [0], "modes": ["serial", "up", "dp"],
+            "sync": ["atomic"], "normals": ["analytic"], "helpers": [1, 2]}"#,
+    )
+    .unwrap();
+    let keys = config.axes.cells();
+    assert_eq!(keys.len(), 5, "serial, up ×2, dp ×2: {keys:?}");
+    let fps = |k: &CellKey| match (k.mode.name(), k.helpers) {
+        ("up", Some(1)) => 100.0,
+        ("up", _) => 200.0,
+        ("dp", Some(1)) => 125.0,
+        ("dp", _) => 400.0,
+        _ => 50.0,
+    };
+    let cells = keys.iter().map(|k| cell(k.clone(), fps(k))).collect();
+    let r = results(config, cells);
+    let c = compare::within(&r, Dim::Mode, "up", 5.0, Metric::Fps).unwrap();
+    let dp: Vec<_> = c
+        .changes
+        .iter()
+        .filter(|c| c.versus.as_deref() == Some("dp vs up"))
+        .collect();
+    assert_eq!(dp.len(), 2, "{c:?}");
+    let mut ratios: Vec<(f64, f64)> = dp.iter().map(|c| (c.base, c.new)).collect();
+    ratios.sort_by(|x, y| x.0.total_cmp(&y.0));
+    assert_eq!(ratios, [(100.0, 125.0), (200.0, 400.0)]);
+    assert_ne!(
+        dp[0].label, dp[1].label,
+        "the labels say which helper count"
+    );
+}
+
+#[test]
+fn results_written_before_helpers_existed_still_load() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json");
+    let old = Results::load(&path).unwrap();
+    assert!(!old.cells.is_empty());
+    for c in &old.cells {
+        match c.key.is_serial() {
+            true => assert_eq!(
+                (c.key.sync, c.key.threading, c.key.helpers),
+                (None, None, None)
+            ),
+            false => assert_eq!(c.key.helpers, Some(1)),
+        }
+    }
+    let text = serde_json::to_string(&old).unwrap();
+    let again: Results = serde_json::from_str(&text).unwrap();
+    assert_eq!(again, old, "a loaded file writes back to itself");
+    let expanded = again.config.axes.cells();
+    assert!(old.cells.iter().all(|c| expanded.contains(&c.key)));
+}
