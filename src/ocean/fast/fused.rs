@@ -1,15 +1,16 @@
 //! The fused wave loop: every wave of a row in one pass, for wave sets whose exponents 2k − 2
 //! are all integers (half-integer steepness, the default set among them).
 //!
-//! The per-wave loop loads and stores the row's z (and both slopes) once per wave, so at the
-//! default four waves the loads and stores of the outputs cost as much as the arithmetic. Here
-//! a row is cut into tiles of `K` vectors whose z and slopes stay in registers while every
-//! wave adds to them; the slopes become normals before the tile is stored, once.
+//! The per-wave loop loads and stores the row's z (and both slopes) once per wave. Here a row
+//! is cut into tiles of vectors whose z and slopes stay in registers while every wave adds to
+//! them; the slopes become normals before the tile is stored, once. A tile is `K` vectors
+//! with normals (4 on AVX-512: 12 accumulators of 32 registers; 2 on the 16-register sets)
+//! and twice that for heights alone.
 //!
 //! The wave loop inside a tile runs over however many waves there are (1 to `MAX_WAVES`) and
-//! dispatches each wave to its compile-time exponent once per tile, so a tile of 64 vertices
-//! (AVX-512) pays one predictable indirect branch per wave. Only exponents are monomorphised
-//! (13 of them), never wave counts or exponent combinations.
+//! dispatches each wave to its compile-time exponent once per tile, so a tile of 64 or 128
+//! vertices (AVX-512) pays one predictable indirect branch per wave. Only exponents are
+//! monomorphised (13 of them), never wave counts or exponent combinations.
 //!
 //! The half angle's sin h and cos g come from the column's and the row's by angle addition,
 //! as in the per-wave loop, but with the row's larger factor taken out (see
@@ -39,21 +40,25 @@ impl ForIsa for Fused<'_> {
 
     #[inline(always)]
     fn run<const F: bool, const K: usize, V: Vector>(self) {
+        // Heights alone keep one accumulator per vector, so their tiles are twice as wide:
+        // the dispatch per wave and tile is spread over twice the work.
         if self.0.analytic {
-            rows::<V, K, true>(self.0);
+            rows::<V, K, 1, true>(self.0);
         } else {
-            rows::<V, K, false>(self.0);
+            rows::<V, K, 2, false>(self.0);
         }
     }
 }
 
-/// Every row, tile by tile: heights and, with `S`, normals from the slopes.
+/// Every row, tile by tile (`T` groups of `K` vectors): heights and, with `S`, normals from
+/// the slopes.
 #[inline(always)]
-fn rows<V: Vector, const K: usize, const S: bool>(step: Step) {
+fn rows<V: Vector, const K: usize, const T: usize, const S: bool>(step: Step) {
     let Step {
         waves, tables, out, ..
     } = step;
-    let (n, m, stride, tile) = (tables.grid.n, tables.rows, tables.stride, K * V::LANES);
+    let (n, m, stride) = (tables.grid.n, tables.rows, tables.stride);
+    let tile = T * K * V::LANES;
     assert_eq!(stride % tile, 0, "column tables padded to whole tiles");
     assert!(waves.len() <= MAX_WAVES);
     // Each wave's exponent and constants, and below each row's values, gathered where the
@@ -82,7 +87,7 @@ fn rows<V: Vector, const K: usize, const S: bool>(step: Step) {
             swap[w] = scale < 0.0;
         }
         for c in (0..n).step_by(tile) {
-            let mut acc = [[V::splat(0.0); 3]; K];
+            let mut acc = [[[V::splat(0.0); 3]; K]; T];
             for w in 0..waves.len() {
                 let at = w * stride + c;
                 let (sa, ca) = (
@@ -95,15 +100,15 @@ fn rows<V: Vector, const K: usize, const S: bool>(step: Step) {
                 let ([amp, cx, cy], t) = (ks[w], ts[w]);
                 let t = (V::splat(t), V::splat(-t));
                 let k = [V::splat(amp), V::splat(cx), V::splat(cy)];
-                by_exp!(exps[w], add_tile::<V, K, S>(&mut acc, cols, t, k));
+                by_exp!(exps[w], add_tile::<V, K, T, S>(&mut acc, cols, t, k));
             }
             let out = [&mut *z, &mut *nx, &mut *ny, &mut *nz];
             // The tail's partial stores are kept apart so they cannot make the whole tiles
             // spill their accumulators.
             if c + tile <= n {
-                store_tile::<V, K, S, true>(acc, out, c);
+                store_tile::<V, K, T, S, true>(acc, out, c);
             } else {
-                store_tile::<V, K, S, false>(acc, out, c);
+                store_tile::<V, K, T, S, false>(acc, out, c);
             }
         }
     }
@@ -112,30 +117,32 @@ fn rows<V: Vector, const K: usize, const S: bool>(step: Step) {
 /// Stores a tile's heights and, with `S`, its normals at column `c` of the row `out` (z, nx,
 /// ny, nz); `WHOLE` when the tile lies inside the row.
 #[inline(always)]
-fn store_tile<V: Vector, const K: usize, const S: bool, const WHOLE: bool>(
-    acc: [[V; 3]; K],
+fn store_tile<V: Vector, const K: usize, const T: usize, const S: bool, const WHOLE: bool>(
+    acc: [[[V; 3]; K]; T],
     [z, nx, ny, nz]: [&mut [f32]; 4],
     c: usize,
 ) {
     let n = z.len();
-    for (k, [hz, dx, dy]) in acc.into_iter().enumerate() {
-        let at = c + k * V::LANES;
-        if !WHOLE && at >= n {
-            break;
-        }
-        let r = at..(at + V::LANES).min(n);
-        let normals = if S { V::slope_normal(dx, dy) } else { [hz; 3] };
-        let outs = [&mut *z, &mut *nx, &mut *ny, &mut *nz];
-        let count = if S { 4 } else { 1 };
-        for (v, out) in [hz, normals[0], normals[1], normals[2]]
-            .into_iter()
-            .zip(outs)
-            .take(count)
-        {
-            if WHOLE {
-                v.store(&mut out[at..]);
-            } else {
-                v.store_prefix(&mut out[r.clone()]);
+    for (g, group) in acc.into_iter().enumerate() {
+        for (k, [hz, dx, dy]) in group.into_iter().enumerate() {
+            let at = c + (g * K + k) * V::LANES;
+            if !WHOLE && at >= n {
+                break;
+            }
+            let r = at..(at + V::LANES).min(n);
+            let normals = if S { V::slope_normal(dx, dy) } else { [hz; 3] };
+            let outs = [&mut *z, &mut *nx, &mut *ny, &mut *nz];
+            let count = if S { 4 } else { 1 };
+            for (v, out) in [hz, normals[0], normals[1], normals[2]]
+                .into_iter()
+                .zip(outs)
+                .take(count)
+            {
+                if WHOLE {
+                    v.store(&mut out[at..]);
+                } else {
+                    v.store_prefix(&mut out[r.clone()]);
+                }
             }
         }
     }
@@ -145,26 +152,30 @@ fn store_tile<V: Vector, const K: usize, const S: bool, const WHOLE: bool>(
 /// tile's columns (a, b) in the roles `Tables::row_scale` gives them, h and g up to the row's
 /// factor are u = a·t + b and v = b·(−t) + a; `k` is the wave's A, cx, cy with that factor.
 #[inline(always)]
-fn add_tile<V: Vector, const K: usize, const S: bool, const E: u32>(
-    acc: &mut [[V; 3]; K],
+fn add_tile<V: Vector, const K: usize, const T: usize, const S: bool, const E: u32>(
+    acc: &mut [[[V; 3]; K]; T],
     (a, b): (&[f32], &[f32]),
     (t, neg_t): (V, V),
     [amp, cx, cy]: [V; 3],
 ) {
-    for (j, [z, dx, dy]) in acc.iter_mut().enumerate() {
-        let l = j * V::LANES;
-        let (a, b) = (V::load(&a[l..]), V::load(&b[l..]));
-        let u = a.mul_add(t, b);
-        let v = if S {
-            b.mul_add(neg_t, a)
-        } else {
-            V::splat(0.0)
-        };
-        let (zt, q) = power_terms::<V, S>(u, v, int_pow::<V, E>);
-        *z = amp.mul_add(zt, *z);
-        if S {
-            *dx = cx.mul_add(q, *dx);
-            *dy = cy.mul_add(q, *dy);
+    // Nested loops over the fixed sizes, which LLVM unrolls; `flatten` it does not, and the
+    // accumulators then live in memory.
+    for (g, group) in acc.iter_mut().enumerate() {
+        for (j, [z, dx, dy]) in group.iter_mut().enumerate() {
+            let l = (g * K + j) * V::LANES;
+            let (a, b) = (V::load(&a[l..]), V::load(&b[l..]));
+            let u = a.mul_add(t, b);
+            let v = if S {
+                b.mul_add(neg_t, a)
+            } else {
+                V::splat(0.0)
+            };
+            let (zt, q) = power_terms::<V, S>(u, v, int_pow::<V, E>);
+            *z = amp.mul_add(zt, *z);
+            if S {
+                *dx = cx.mul_add(q, *dx);
+                *dy = cy.mul_add(q, *dy);
+            }
         }
     }
 }

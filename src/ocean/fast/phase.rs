@@ -15,7 +15,7 @@ pub const MAX_INT_EXP: u32 = 12;
 
 /// Column tables are padded to a multiple of this many entries, the widest fused tile, so
 /// tiles at a row's end load whole vectors (the padding is 0 and its lanes are never stored).
-pub const COL_PAD: usize = 64;
+pub const COL_PAD: usize = 128;
 
 /// How |h|^(2k−2) is evaluated for one wave.
 #[derive(Clone, Copy, Debug, PartialEq)]
