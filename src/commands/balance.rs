@@ -1,7 +1,7 @@
 //! `oceanbench balance`: the workload at which the main thread stops waiting for the helper,
 //! per cell, with the speed-up curve around it.
 
-use super::{interrupt, prepare_out_dir, CliError};
+use super::{default_out_dir, interrupt, prepare_out_dir, CliError};
 use crate::balance::{self, BalanceError, BalanceSettings};
 use crate::cell::{Axes, Dim};
 use crate::cli::BalanceArgs;
@@ -11,7 +11,6 @@ use crate::report;
 use crate::report::chart::{self, ChartOptions};
 use crate::sweep::{self, Sweep};
 use crate::sync::SyncMethod;
-use std::path::PathBuf;
 
 /// What `balance` searches when no config or flag says otherwise: the Figure 5-1 sizes in DP
 /// with the paper's interlocked hand-off, and a short trial budget (a search runs hundreds).
@@ -72,13 +71,10 @@ pub(super) fn balance(args: BalanceArgs) -> Result<(), CliError> {
     }
     config.balance = Some(settings.clone());
     config.validate()?;
-    let dir = args.out.clone().unwrap_or_else(|| {
-        let stamp: String = sweep::utc_now()
-            .chars()
-            .filter(|c| c.is_ascii_alphanumeric())
-            .collect();
-        PathBuf::from("results").join(format!("{}-{stamp}", config.name))
-    });
+    let dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| default_out_dir(&config.name));
     prepare_out_dir(&dir)?;
     let stop = interrupt::flag();
     eprintln!("oceanbench: calibrating; results go to {}", dir.display());

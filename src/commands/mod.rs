@@ -74,6 +74,15 @@ fn results_dir(path: &Path) -> PathBuf {
     }
 }
 
+/// `results/<name>-<UTC timestamp>`: where a run writes when `--out` is not given.
+fn default_out_dir(name: &str) -> PathBuf {
+    let stamp: String = crate::sweep::utc_now()
+        .chars()
+        .filter(|c| c.is_ascii_alphanumeric())
+        .collect();
+    PathBuf::from("results").join(format!("{name}-{stamp}"))
+}
+
 /// Creates the results directory, refusing one that already holds results.
 fn prepare_out_dir(dir: &Path) -> Result<(), CliError> {
     if dir.join("results.json").exists() {

@@ -2,14 +2,15 @@
 //! table and draw the charts.
 
 use super::{
-    draw_charts, fail_on_errors, interrupt, load_results, prepare_out_dir, results_dir, CliError,
+    default_out_dir, draw_charts, fail_on_errors, interrupt, load_results, prepare_out_dir,
+    results_dir, CliError,
 };
 use crate::cli::{NoiseArgs, SweepArgs};
 use crate::config::{InputError, SweepConfig};
 use crate::doctor;
 use crate::report::{self, chart::ChartOptions};
 use crate::results::Results;
-use crate::sweep::{self, Observer, Progress, Sweep};
+use crate::sweep::{Observer, Progress, Sweep};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -59,13 +60,10 @@ fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf)>, CliError> {
         let mut config = config.unwrap_or_default();
         args.noise.apply(&mut config);
         config.validate()?;
-        let dir = args.out.clone().unwrap_or_else(|| {
-            let stamp: String = sweep::utc_now()
-                .chars()
-                .filter(|c| c.is_ascii_alphanumeric())
-                .collect();
-            PathBuf::from("results").join(format!("{}-{stamp}", config.name))
-        });
+        let dir = args
+            .out
+            .clone()
+            .unwrap_or_else(|| default_out_dir(&config.name));
         prepare_out_dir(&dir)?;
         let doctor = (!args.no_doctor).then(|| {
             let [main, helper] = config.placement().expect("the config was validated");
