@@ -190,6 +190,18 @@ pub struct RunArgs {
     /// Calibration and noise handling.
     #[command(flatten)]
     pub noise: NoiseArgs,
+    /// Waiting for other runs on the same cores.
+    #[command(flatten)]
+    pub wait: WaitArgs,
+}
+
+/// Whether to wait for another oceanbench run measuring on the same cores.
+#[derive(Debug, Default, Args)]
+pub struct WaitArgs {
+    /// Refuse (exit 2) instead of waiting when another oceanbench run is measuring on any of
+    /// these cores (each measuring command holds a lock per core; see docs/noise.md).
+    #[arg(long)]
+    pub no_wait: bool,
 }
 
 /// Flags of `oceanbench sweep`.
@@ -218,6 +230,9 @@ pub struct SweepArgs {
     /// Calibration and noise handling (not with --resume, which keeps the recorded config).
     #[command(flatten)]
     pub noise: NoiseArgs,
+    /// Waiting for other runs on the same cores.
+    #[command(flatten)]
+    pub wait: WaitArgs,
 }
 
 /// Flags of `oceanbench chart`.
@@ -297,6 +312,9 @@ pub struct LatencyArgs {
     /// Also write the rows as JSON to this file.
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// Waiting for other runs on the same cores.
+    #[command(flatten)]
+    pub wait: WaitArgs,
 }
 
 /// Flags of `oceanbench balance`.
@@ -329,6 +347,9 @@ pub struct BalanceArgs {
     /// Do not draw the charts at the end.
     #[arg(long)]
     pub no_charts: bool,
+    /// Waiting for other runs on the same cores.
+    #[command(flatten)]
+    pub wait: WaitArgs,
 }
 
 /// Flags of `oceanbench doctor`.

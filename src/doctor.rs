@@ -1,8 +1,9 @@
 //! `doctor`: what on this machine makes a measurement noisy, each finding with how to fix it
-//! (after pyperf's `system show`). It reads `/proc` and `/sys` only, changes nothing, and says
+//! (after pyperf's `system show`). It reads `/proc`, `/sys` and the core locks only, changes nothing, and says
 //! which entries were missing instead of failing.
 
 use crate::affinity;
+use crate::lock;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::path::Path;
@@ -144,6 +145,7 @@ pub fn examine(cores: &[usize], window: Duration) -> Report {
     findings.push(transparent_hugepages(&mut r));
     findings.extend(sampled(&mut r, cores, window));
     findings.extend(pinning(cores));
+    findings.extend(core_locks(cores));
     Report {
         cores: cores.to_vec(),
         window_seconds: window.as_secs_f64(),
@@ -585,6 +587,27 @@ fn busy_threads(
         format!("busy on the chosen cores: {}", list.join(", ")),
         Some("stop them, or move them off: taskset -acp OTHER_CORES PID"),
     )]
+}
+
+/// Another oceanbench run holding a core's lock is measuring there right now.
+fn core_locks(cores: &[usize]) -> Vec<Finding> {
+    cores
+        .iter()
+        .map(|&c| match lock::holder(&lock::core_file(c)) {
+            Some(holder) => finding(
+                "locks",
+                Severity::Warn,
+                format!("core {c} is being measured on by another oceanbench run ({holder})"),
+                Some("wait for that run to finish, or choose other cores with --cores"),
+            ),
+            None => finding(
+                "locks",
+                Severity::Ok,
+                format!("no other oceanbench run is measuring on core {c}"),
+                None,
+            ),
+        })
+        .collect()
 }
 
 fn pinning(cores: &[usize]) -> Vec<Finding> {

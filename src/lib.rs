@@ -13,6 +13,7 @@ pub mod doctor;
 pub mod frame_loop;
 pub mod input;
 pub mod latency;
+pub mod lock;
 pub mod machine;
 pub mod measure;
 pub mod named;

@@ -1,7 +1,7 @@
 //! `oceanbench balance`: the workload at which the main thread stops waiting for the helper,
 //! per cell, with the speed-up curve around it.
 
-use super::{default_out_dir, interrupt, prepare_out_dir, CliError};
+use super::{default_out_dir, interrupt, lock_cores, prepare_out_dir, CliError};
 use crate::balance::{self, BalanceError, BalanceSettings};
 use crate::cell::{Axes, Dim};
 use crate::cli::BalanceArgs;
@@ -75,7 +75,8 @@ pub(super) fn balance(args: BalanceArgs) -> Result<(), CliError> {
         .out
         .clone()
         .unwrap_or_else(|| default_out_dir(&config.name));
-    prepare_out_dir(&dir)?;
+    let _out_lock = prepare_out_dir(&dir)?;
+    let _core_locks = lock_cores(&config.placement()?, &args.wait)?;
     let stop = interrupt::flag();
     eprintln!("oceanbench: calibrating; results go to {}", dir.display());
     let sweep = Sweep::prepare(config)?.stopping_on(stop);

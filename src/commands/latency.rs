@@ -1,6 +1,6 @@
 //! `oceanbench latency`: every hand-off method's round trip next to the cache-line floor.
 
-use super::{chosen_cores, CliError};
+use super::{chosen_cores, lock_cores, CliError};
 use crate::cli::LatencyArgs;
 use crate::config::InputError;
 use crate::report;
@@ -14,6 +14,7 @@ pub(super) fn latency(args: LatencyArgs) -> Result<(), CliError> {
         .into());
     }
     let [a, b] = chosen_cores(args.cores.as_deref())?;
+    let _core_locks = lock_cores(&[a, b], &args.wait)?;
     let rows = crate::latency::table(a, b, args.samples);
     print!("{}", crate::latency::to_text(&rows));
     println!(

@@ -11,8 +11,9 @@ mod run;
 mod sweep;
 
 use crate::affinity;
-use crate::cli::{Cli, Command};
+use crate::cli::{Cli, Command, WaitArgs};
 use crate::config::InputError;
+use crate::lock::{self, Lock, LockError};
 use crate::report::chart::{self as charts, ChartOptions};
 use crate::results::Results;
 use std::path::{Path, PathBuf};
@@ -83,8 +84,12 @@ fn default_out_dir(name: &str) -> PathBuf {
     PathBuf::from("results").join(format!("{name}-{stamp}"))
 }
 
-/// Creates the results directory, refusing one that already holds results.
-fn prepare_out_dir(dir: &Path) -> Result<(), CliError> {
+/// Creates the results directory and locks it, refusing one that already holds results or that
+/// another run is writing.
+fn prepare_out_dir(dir: &Path) -> Result<Lock, CliError> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| InputError(format!("--out: cannot create {}: {e}", dir.display())))?;
+    let lock = lock_out_dir(dir, "--out")?;
     if dir.join("results.json").exists() {
         return Err(InputError(format!(
             "--out: {} already holds results.json; choose another directory",
@@ -92,9 +97,44 @@ fn prepare_out_dir(dir: &Path) -> Result<(), CliError> {
         ))
         .into());
     }
-    std::fs::create_dir_all(dir)
-        .map_err(|e| InputError(format!("--out: cannot create {}: {e}", dir.display())))?;
-    Ok(())
+    Ok(lock)
+}
+
+/// Locks the results directory `dir` (named by `flag` in the error) for this run's writes.
+fn lock_out_dir(dir: &Path, flag: &str) -> Result<Lock, CliError> {
+    lock::out_dir(dir).map_err(|e| match e {
+        LockError::Held { holder, .. } => InputError(format!(
+            "{flag}: {} is being written by another run ({holder}); wait for it or choose another directory",
+            dir.display()
+        ))
+        .into(),
+        e @ LockError::Io { .. } => anyhow::anyhow!("locking {}: {e}", dir.display()).into(),
+    })
+}
+
+/// Locks the cores a command measures on, waiting (with one message) while another run holds
+/// any of them, or refusing at once with `--no-wait`.
+fn lock_cores(cores: &[usize], wait: &WaitArgs) -> Result<Vec<Lock>, CliError> {
+    let stop = interrupt::flag();
+    let stopped = || stop.load(std::sync::atomic::Ordering::SeqCst);
+    let announce = |e: &LockError| {
+        eprintln!(
+            "oceanbench: waiting for another run to finish measuring on core(s) {}: {e}",
+            affinity::list(cores)
+        )
+    };
+    lock::cores(cores, !wait.no_wait, announce, stopped).map_err(|e| match e {
+        LockError::Held { .. } if stopped() => CliError::Interrupted(format!(
+            "interrupted while waiting for core(s) {}",
+            affinity::list(cores)
+        )),
+        e @ LockError::Held { .. } => InputError(format!(
+            "--no-wait: another run is measuring on core(s) {}: {e}; wait for it (drop --no-wait) or choose other cores with --cores",
+            affinity::list(cores)
+        ))
+        .into(),
+        e @ LockError::Io { .. } => anyhow::anyhow!("locking cores: {e}").into(),
+    })
 }
 
 /// Draws every chart and prints where they went and which were skipped.

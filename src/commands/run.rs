@@ -1,6 +1,6 @@
 //! `oceanbench run`: measure the cells the flags describe and print their statistics.
 
-use super::{fail_on_errors, interrupt, prepare_out_dir, CliError};
+use super::{fail_on_errors, interrupt, lock_cores, prepare_out_dir, CliError};
 use crate::cell::{Axes, Dim};
 use crate::cli::{DimArgs, RunArgs};
 use crate::config::{Level, SweepConfig};
@@ -52,9 +52,9 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
         config.workload_levels = vec![Level::micros(us)];
         config.axes.workloads = vec![0];
     }
-    if let Some(dir) = &args.out {
-        prepare_out_dir(dir)?;
-    }
+    let _out_lock = args.out.as_deref().map(prepare_out_dir).transpose()?;
+    config.validate()?;
+    let _core_locks = lock_cores(&config.placement()?, &args.wait)?;
     let stop = interrupt::flag();
     let sweep = Sweep::prepare(config)?.stopping_on(stop);
     let results = sweep.run(&mut ());

@@ -2,12 +2,13 @@
 //! table and draw the charts.
 
 use super::{
-    default_out_dir, draw_charts, fail_on_errors, interrupt, load_results, prepare_out_dir,
-    results_dir, CliError,
+    default_out_dir, draw_charts, fail_on_errors, interrupt, load_results, lock_cores,
+    lock_out_dir, prepare_out_dir, results_dir, CliError,
 };
 use crate::cli::{NoiseArgs, SweepArgs};
 use crate::config::{InputError, SweepConfig};
 use crate::doctor;
+use crate::lock::Lock;
 use crate::report::{self, chart::ChartOptions};
 use crate::results::Results;
 use crate::sweep::{Observer, Progress, Sweep};
@@ -50,8 +51,9 @@ impl Observer for Writer<'_> {
     }
 }
 
-/// The sweep to run and where its results go: a new one, or the rest of an interrupted one.
-fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf)>, CliError> {
+/// The sweep to run and where its results go: a new one, or the rest of an interrupted one,
+/// with the locks of its results folder and cores, held until it ends.
+fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf, Vec<Lock>)>, CliError> {
     let config = match &args.config {
         Some(path) => Some(SweepConfig::load(path)?),
         None => None,
@@ -64,7 +66,8 @@ fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf)>, CliError> {
             .out
             .clone()
             .unwrap_or_else(|| default_out_dir(&config.name));
-        prepare_out_dir(&dir)?;
+        let mut locks = vec![prepare_out_dir(&dir)?];
+        locks.extend(lock_cores(&config.placement()?, &args.wait)?);
         let doctor = (!args.no_doctor).then(|| {
             let [main, helper] = config.placement().expect("the config was validated");
             let cores: Vec<usize> = if main == helper {
@@ -79,13 +82,18 @@ fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf)>, CliError> {
         eprintln!("oceanbench: calibrating; results go to {}", dir.display());
         let mut sweep = Sweep::prepare(config)?;
         sweep.results.doctor = doctor;
-        return Ok(Some((sweep, dir)));
+        return Ok(Some((sweep, dir, locks)));
     };
     if args.noise != NoiseArgs::default() {
         return Err(InputError(
             "--resume: keeps the recorded config; --calibrate, --noise-threshold and --retry-noisy cannot change it".into(),
         )
         .into());
+    }
+    let out = results_dir(dir);
+    let mut locks = Vec::new();
+    if out.is_dir() {
+        locks.push(lock_out_dir(&out, "--resume")?);
     }
     let previous = load_results(dir)?;
     if let Some(config) = &config {
@@ -108,17 +116,18 @@ fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf)>, CliError> {
         );
         return Ok(None);
     }
+    locks.extend(lock_cores(&sweep.results.config.placement()?, &args.wait)?);
     eprintln!(
         "oceanbench: resuming {}: {} cells to run",
         dir.display(),
         sweep.keys().len()
     );
-    Ok(Some((sweep, results_dir(dir))))
+    Ok(Some((sweep, out, locks)))
 }
 
 pub(super) fn sweep(args: SweepArgs) -> Result<(), CliError> {
     let stop = interrupt::flag();
-    let Some((sweep, dir)) = start(&args)? else {
+    let Some((sweep, dir, _locks)) = start(&args)? else {
         return Ok(());
     };
     let sweep = sweep.stopping_on(stop);

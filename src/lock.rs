@@ -1,0 +1,198 @@
+//! Advisory OS file locks that keep two oceanbench processes apart: one per results folder
+//! (two runs must not write one results.json) and one per core (two runs measuring on the same
+//! core make every number of both meaningless). The OS drops a lock when its holder exits or
+//! crashes, so a stale lock file never blocks anyone; the file holds the holder's pid and
+//! command line only to name it.
+
+use std::fs::{File, OpenOptions, TryLockError};
+use std::io::{Read, Seek, Write};
+use std::os::unix::fs::MetadataExt;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+/// The environment variable that overrides where the per-core lock files live (tests give each
+/// run its own directory).
+pub const DIR_ENV: &str = "OCEANBENCH_LOCK_DIR";
+
+/// The name of the lock file inside a results folder.
+pub const OUT_FILE: &str = ".oceanbench.lock";
+
+/// How often a waiting run tries a held lock again.
+const POLL: Duration = Duration::from_millis(100);
+
+/// A held lock; dropping it removes the lock file and releases the lock.
+#[derive(Debug)]
+pub struct Lock {
+    file: File,
+    path: PathBuf,
+}
+
+impl Drop for Lock {
+    fn drop(&mut self) {
+        // Removed while still held: a process that opened the old file finds, once it gets
+        // the lock, that the path no longer names it, and opens the new one (see `try_take`).
+        let _ = std::fs::remove_file(&self.path);
+        let _ = self.file.unlock();
+    }
+}
+
+/// Why a lock was not taken.
+#[derive(Debug, thiserror::Error)]
+pub enum LockError {
+    /// Another process holds it.
+    #[error("{} is held by {holder}", path.display())]
+    Held {
+        /// The lock file.
+        path: PathBuf,
+        /// The holder as its lock file names it (`pid N: command line`).
+        holder: String,
+    },
+    /// The lock file could not be opened or locked.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The lock file.
+        path: PathBuf,
+        /// The failure.
+        source: std::io::Error,
+    },
+}
+
+/// Where the per-core lock files live: `$OCEANBENCH_LOCK_DIR`, else `$XDG_RUNTIME_DIR/oceanbench`,
+/// else `oceanbench-<uid>` in the temp directory, so every user of the machine shares them.
+pub fn dir() -> PathBuf {
+    if let Some(d) = std::env::var_os(DIR_ENV).filter(|d| !d.is_empty()) {
+        return PathBuf::from(d);
+    }
+    if let Some(d) = std::env::var_os("XDG_RUNTIME_DIR").filter(|d| !d.is_empty()) {
+        return PathBuf::from(d).join("oceanbench");
+    }
+    // SAFETY: getuid has no preconditions and cannot fail.
+    let uid = unsafe { libc::getuid() };
+    std::env::temp_dir().join(format!("oceanbench-{uid}"))
+}
+
+/// The lock file of one core.
+pub fn core_file(core: usize) -> PathBuf {
+    dir().join(format!("core-{core}.lock"))
+}
+
+/// Takes the lock of the results folder `out` (which must exist), or says who holds it.
+pub fn out_dir(out: &Path) -> Result<Lock, LockError> {
+    try_take(&out.join(OUT_FILE))
+}
+
+/// Takes the lock of every core in `cores`, in ascending order so two runs never hold one each
+/// of the other's. A held core is waited for when `wait` is set (`on_wait` is told once, with the
+/// error naming the holder, and `stop` ends the wait with that error), else refused at once.
+pub fn cores(
+    cores: &[usize],
+    wait: bool,
+    mut on_wait: impl FnMut(&LockError),
+    stop: impl Fn() -> bool,
+) -> Result<Vec<Lock>, LockError> {
+    let mut sorted = cores.to_vec();
+    sorted.sort_unstable();
+    sorted.dedup();
+    let dir = dir();
+    std::fs::create_dir_all(&dir).map_err(|source| LockError::Io {
+        path: dir.clone(),
+        source,
+    })?;
+    let mut told = false;
+    let mut held = Vec::new();
+    for core in sorted {
+        let path = core_file(core);
+        loop {
+            match try_take(&path) {
+                Ok(lock) => {
+                    held.push(lock);
+                    break;
+                }
+                Err(e @ LockError::Held { .. }) if wait && !stop() => {
+                    if !told {
+                        on_wait(&e);
+                        told = true;
+                    }
+                    std::thread::sleep(POLL);
+                }
+                Err(e) => return Err(e),
+            }
+        }
+    }
+    Ok(held)
+}
+
+/// The holder of the lock file at `path`, if another live process holds it.
+pub fn holder(path: &Path) -> Option<String> {
+    let file = File::open(path).ok()?;
+    match file.try_lock_shared() {
+        Ok(()) => None,
+        Err(TryLockError::WouldBlock) => {
+            let holder = read_holder(file);
+            let own = format!("pid {}:", std::process::id());
+            (!holder.starts_with(&own)).then_some(holder)
+        }
+        Err(TryLockError::Error(_)) => None,
+    }
+}
+
+fn try_take(path: &Path) -> Result<Lock, LockError> {
+    let io = |source| LockError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    loop {
+        let mut file = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(path)
+            .map_err(io)?;
+        match file.try_lock() {
+            Ok(()) => {}
+            Err(TryLockError::WouldBlock) => {
+                return Err(LockError::Held {
+                    path: path.to_path_buf(),
+                    holder: read_holder(file),
+                })
+            }
+            Err(TryLockError::Error(e)) => return Err(io(e)),
+        }
+        if !same_file(&file, path) {
+            continue;
+        }
+        file.set_len(0).map_err(io)?;
+        file.rewind().map_err(io)?;
+        file.write_all(whoami().as_bytes()).map_err(io)?;
+        return Ok(Lock {
+            file,
+            path: path.to_path_buf(),
+        });
+    }
+}
+
+/// Whether `path` still names the open `file` (its holder may have removed it meanwhile).
+fn same_file(file: &File, path: &Path) -> bool {
+    match (file.metadata(), std::fs::metadata(path)) {
+        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+        _ => false,
+    }
+}
+
+/// `pid N: command line` of this process.
+fn whoami() -> String {
+    let args: Vec<String> = std::env::args().collect();
+    format!("pid {}: {}", std::process::id(), args.join(" "))
+}
+
+fn read_holder(mut file: File) -> String {
+    let mut text = String::new();
+    let _ = file.read_to_string(&mut text);
+    let text = text.trim();
+    if text.is_empty() {
+        "another process (it has not written its pid yet)".into()
+    } else {
+        text.to_string()
+    }
+}
