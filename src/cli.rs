@@ -257,7 +257,7 @@ crate::named! {
 /// Flags of `oceanbench compare`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "Exit status: 0 nothing regressed, 1 something regressed, 2 bad input.\n\nExamples:\n  oceanbench compare results/base results/new --threshold 5 --format markdown\n  oceanbench compare results/sync-primitives-X --by sync --baseline atomic"
+    after_help = "Verdicts: improved or regressed when the whole 95% interval clears the threshold; below threshold when it excludes 0 but does not clear it; within noise when it includes 0; too few trials when a side has fewer than 5 (point estimate only, never a failure).\n\nExit status: 0 nothing regressed, 1 something regressed, 2 bad input, no cell compared, or (with --strict) runs that are not like for like.\n\nExamples:\n  oceanbench compare results/base results/new --threshold 5 --format markdown\n  oceanbench compare results/base results/new --strict\n  oceanbench compare results/sync-primitives-X --by sync --baseline atomic"
 )]
 pub struct CompareArgs {
     /// Baseline results (directory or results.json); with --by, the one run to compare within.
@@ -280,6 +280,10 @@ pub struct CompareArgs {
     /// Output format.
     #[arg(long, value_enum, default_value = "text")]
     pub format: CompareFormat,
+    /// Exit 2 when the two runs are not like for like (another CPU, core count or core
+    /// placement, or workload levels more than 10% apart in microseconds) instead of warning.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// Flags of `oceanbench latency`.
