@@ -174,6 +174,10 @@ pub struct RunArgs {
     /// Measured seconds per trial, at least.
     #[arg(long, default_value_t = 1.0)]
     pub seconds: f64,
+    /// A trial stops after this many seconds even short of --frames (default: 10 × --seconds,
+    /// at least 10); a cell that stopped short is named on stderr.
+    #[arg(long)]
+    pub max_seconds: Option<f64>,
     /// Trials per cell, interleaved with the other cells' trials.
     #[arg(long, default_value_t = 3)]
     pub trials: u32,
@@ -312,7 +316,7 @@ pub struct BalanceArgs {
     /// A config (JSON) whose dimension lists choose the cells and whose `balance` object sets
     /// the search; the flags below override it.
     pub config: Option<PathBuf>,
-    /// The cells to search (workload is ignored: the search sets it).
+    /// The cells to search (not --workload: the search sets it).
     #[command(flatten)]
     pub select: DimArgs,
     /// Stop when the bracket is narrower than this percentage of the step (default 2).
