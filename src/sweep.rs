@@ -137,6 +137,7 @@ impl Sweep {
         let keys = cells(&config);
         Ok(Sweep {
             results: Results {
+                schema_version: crate::results::SCHEMA_VERSION,
                 machine: Machine::current(),
                 config,
                 calibration,
@@ -172,6 +173,7 @@ impl Sweep {
             .collect();
         Ok(Sweep {
             results: Results {
+                schema_version: crate::results::SCHEMA_VERSION,
                 finished: None,
                 ..previous
             },

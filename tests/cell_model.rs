@@ -88,6 +88,7 @@ fn results(config: SweepConfig, cells: Vec<Cell>) -> Results {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json");
     let template = Results::load(&path).expect("fixture loads");
     Results {
+        schema_version: oceanbench::results::SCHEMA_VERSION,
         config,
         cells,
         ..template
