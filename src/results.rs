@@ -201,7 +201,7 @@ pub struct Results {
     pub doctor: Option<crate::doctor::Report>,
     /// Balance points found (`oceanbench balance`, or a sweep with a `balance` key).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub balance: Vec<crate::balance::BalanceEntry>,
+    pub balance: Vec<crate::balance::record::BalanceEntry>,
     /// Balance searches a sweep could not complete, and why.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub balance_failures: Vec<String>,
