@@ -244,3 +244,28 @@ fn a_failed_write_leaves_no_temporary_file() {
         .collect();
     assert!(left.is_empty(), "{left:?}");
 }
+
+#[test]
+fn resume_and_balance_take_the_folder_lock_too() {
+    let tmp = tempfile::tempdir().unwrap();
+    let locks = tmp.path().join("locks");
+    let out = tmp.path().join("out");
+    let out_arg = out.to_string_lossy().into_owned();
+    let written = oceanbench(&locks, &strs(&with(SHORT_RUN, &["--out", &out_arg])))
+        .output()
+        .unwrap();
+    assert!(written.status.success(), "{}", stderr(&written));
+
+    // This test process is the holder: a second process must see the lock whoever took it.
+    let held = oceanbench::lock::out_dir(&out).unwrap();
+    let resume = oceanbench(&locks, &["sweep", "--resume", &out_arg, "--no-wait"])
+        .output()
+        .unwrap();
+    assert_refused(&resume, std::process::id(), &["--resume", &out_arg]);
+    let balance = oceanbench(&locks, &["balance", "--size", "8", "--out", &out_arg])
+        .output()
+        .unwrap();
+    assert_refused(&balance, std::process::id(), &["--out", &out_arg]);
+    drop(held);
+    assert!(lock_files(&out).is_empty(), "{:?}", lock_files(&out));
+}
