@@ -10,6 +10,7 @@ mod futex;
 mod mailbox;
 mod mutex;
 mod park;
+mod polls;
 mod primitives;
 mod ring;
 mod slot;
