@@ -10,16 +10,18 @@
 //! from the end of the spin on, where a yield or a sleep costs far more than a clock read. Each
 //! side's learnt phases, the counters and the sleepers each have a cache line of their own.
 //!
-//! The counters are the same as `atomic`'s. Blocking uses parking_lot's mutex and condition
-//! variable (futex-backed, with timed waits, which `atomic-wait` lacks; and already model-checked
-//! here through the loom facade). A waiter registers itself as a sleeper before its last look at
-//! the counters, and a signaller looks for sleepers after changing them, both sequentially
-//! consistent, so a wake-up cannot be lost between the look and the sleep.
+//! The counters are `atomic`'s, each written by one side only, so a change is a plain store.
+//! Blocking uses parking_lot's mutex and condition variable (futex-backed, with timed waits,
+//! which `atomic-wait` lacks; and model-checked here through the loom facade). A waiter
+//! registers itself as a sleeper, then fences, then looks at the counters a last time; a
+//! signaller stores, fences, then looks for sleepers; the two fences order each side's store
+//! before its load, so one of them sees the other's store and a wake-up cannot be lost. The
+//! fences are asymmetric (`fence`): the signaller, on every hand-off, pays a compiler barrier;
+//! the sleeper, already on its way to a wake-up of tens of µs, pays `membarrier`.
 
+use super::fence;
 use super::polls;
-use super::primitives::{
-    spin_loop, yield_now, AtomicBool, AtomicU64, Ordering, PlCondvar, PlMutex,
-};
+use super::primitives::{AtomicBool, AtomicU64, Ordering, PlCondvar, PlMutex};
 use super::{Free, Handoff, Ring, TimedOut};
 use crossbeam_utils::CachePadded;
 // The learnt phase lengths are hints each side keeps for itself, no part of the protocol, so
@@ -151,6 +153,7 @@ impl AdaptiveRing {
     /// A ring of `depth` free slots (the first in the process also measures the poll rate).
     pub fn new(depth: u64) -> Self {
         let bounds = SpinBounds::at(polls::per_us());
+        fence::register();
         AdaptiveRing {
             counters: CachePadded::new(Counters {
                 head: AtomicU64::new(0),
@@ -171,15 +174,24 @@ impl AdaptiveRing {
 
     fn ring(&self) -> Ring {
         Ring {
-            head: self.counters.head.load(Ordering::SeqCst),
-            tail: self.counters.tail.load(Ordering::SeqCst),
-            shutdown: self.counters.shutdown.load(Ordering::SeqCst),
+            head: self.counters.head.load(Ordering::Acquire),
+            tail: self.counters.tail.load(Ordering::Acquire),
+            shutdown: self.counters.shutdown.load(Ordering::Acquire),
         }
+    }
+
+    /// Adds one to `counter`, which only the calling side writes: a plain store, no
+    /// read-modify-write. Then wakes a sleeping waiter, if there is one.
+    fn bump(&self, counter: &AtomicU64) {
+        counter.store(counter.load(Ordering::Relaxed) + 1, Ordering::Release);
+        self.signal();
     }
 
     /// After a change of the counters: wakes a sleeping waiter, if there is one.
     fn signal(&self) {
-        if self.sleepers.count.load(Ordering::SeqCst) > 0 {
+        // Pairs with the sleeper's heavy fence: either it sees the change or we see it.
+        fence::light();
+        if self.sleepers.count.load(Ordering::Relaxed) > 0 {
             let _guard = self.sleepers.lock.lock();
             self.sleepers.changed.notify_all();
         }
@@ -199,7 +211,7 @@ impl AdaptiveRing {
         // loom does not model time: a few polls per phase let it explore every path.
         let spin = if cfg!(loom) { spin.min(3) } else { spin };
         for polls in 1..=spin {
-            spin_loop();
+            relax(std::hint::spin_loop);
             if let Some(v) = ready(&self.ring()) {
                 phases.learn(&self.bounds, Phase::Spin, polls, Duration::ZERO);
                 return Ok(v);
@@ -210,8 +222,14 @@ impl AdaptiveRing {
         let yield_until =
             (spun + Duration::from_nanos(phases.yield_ns.load(Relaxed))).min(deadline);
         let (mut now, mut yields) = (spun, 0u32);
-        while now < yield_until && !(cfg!(loom) && yields > 2) {
-            yield_now();
+        // Under loom the phase is three looks whatever the clock says: a model must not depend on
+        // time.
+        while if cfg!(loom) {
+            yields < 3
+        } else {
+            now < yield_until
+        } {
+            relax(std::thread::yield_now);
             yields += 1;
             if let Some(v) = ready(&self.ring()) {
                 // The clock before the yield: a lower bound, which is all growing needs.
@@ -231,7 +249,9 @@ impl AdaptiveRing {
         ready: &impl Fn(&Ring) -> Option<T>,
     ) -> Result<T, TimedOut> {
         let sleepers = &self.sleepers;
-        sleepers.count.fetch_add(1, Ordering::SeqCst);
+        sleepers.count.fetch_add(1, Ordering::Relaxed);
+        // Pairs with the signaller's light fence: either it sees us or we see its change.
+        fence::heavy();
         let mut guard = sleepers.lock.lock();
         let outcome = loop {
             if let Some(v) = ready(&self.ring()) {
@@ -246,8 +266,18 @@ impl AdaptiveRing {
             }
         };
         drop(guard);
-        sleepers.count.fetch_sub(1, Ordering::SeqCst);
+        sleepers.count.fetch_sub(1, Ordering::Relaxed);
         outcome
+    }
+}
+
+/// Pauses between two looks, outside loom. A pause or yield under loom hands its scheduler to
+/// the other side until that side moves, so a waiter would never reach its sleep while the
+/// other side has yet to change the counters, the very race the sleep protocol must survive;
+/// there the phases are a few extra looks, which loom interleaves freely.
+fn relax(pause: fn()) {
+    if !cfg!(loom) {
+        pause();
     }
 }
 
@@ -257,8 +287,7 @@ impl Handoff for AdaptiveRing {
     }
 
     fn publish(&self) {
-        self.counters.tail.fetch_add(1, Ordering::SeqCst);
-        self.signal();
+        self.bump(&self.counters.tail);
     }
 
     fn wait_published(&self, frame: u64, deadline: Instant) -> Result<(), TimedOut> {
@@ -266,12 +295,11 @@ impl Handoff for AdaptiveRing {
     }
 
     fn release(&self) {
-        self.counters.head.fetch_add(1, Ordering::SeqCst);
-        self.signal();
+        self.bump(&self.counters.head);
     }
 
     fn shutdown(&self) {
-        self.counters.shutdown.store(true, Ordering::SeqCst);
+        self.counters.shutdown.store(true, Ordering::Release);
         self.signal();
     }
 

@@ -5,6 +5,7 @@
 mod adaptive;
 mod channel;
 mod condvar;
+mod fence;
 mod flag;
 mod futex;
 mod mailbox;
