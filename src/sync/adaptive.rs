@@ -26,7 +26,7 @@ use super::{Free, Handoff, Ring, TimedOut};
 use crossbeam_utils::CachePadded;
 // The learnt phase lengths are hints each side keeps for itself, no part of the protocol, so
 // they are std's atomics even under loom (which then has fewer states to explore).
-use std::sync::atomic::{AtomicU64 as HintU64, Ordering::Relaxed};
+use std::sync::atomic::{AtomicBool as HintBool, AtomicU64 as HintU64, Ordering::Relaxed};
 use std::time::{Duration, Instant};
 
 /// Longest spin: a few cross-core round trips, far below a scheduler tick.
@@ -65,6 +65,9 @@ struct Phases {
     spin_polls: HintU64,
     yield_ns: HintU64,
     waits: HintU64,
+    /// Whether this side's last wait was over at its first look: it is not waiting for the
+    /// other side, which then has time to spare.
+    unhurried: HintBool,
 }
 
 /// How a wait ended.
@@ -80,6 +83,7 @@ impl Phases {
             spin_polls: HintU64::new(bounds.probe),
             yield_ns: HintU64::new(100_000),
             waits: HintU64::new(0),
+            unhurried: HintBool::new(false),
         }
     }
 
@@ -198,13 +202,19 @@ impl AdaptiveRing {
     }
 
     /// Waits until `ready` accepts the counters: spin, yield, then sleep, as `phases` says.
+    /// `other` is the other side's phases, read for whether it is waiting on this side.
     fn wait<T>(
         &self,
-        phases: &Phases,
+        (phases, other): (&Phases, &Phases),
         deadline: Instant,
         ready: impl Fn(&Ring) -> Option<T>,
     ) -> Result<T, TimedOut> {
-        if let Some(v) = ready(&self.ring()) {
+        let at_once = ready(&self.ring());
+        // Written only when it changes, so the line the other side reads stays shared.
+        if phases.unhurried.load(Relaxed) != at_once.is_some() {
+            phases.unhurried.store(at_once.is_some(), Relaxed);
+        }
+        if let Some(v) = at_once {
             return Ok(v);
         }
         let spin = phases.spin_for(&self.bounds);
@@ -219,6 +229,14 @@ impl AdaptiveRing {
         }
         // The clock is read from here on only: a wait the spin caught never reads it.
         let spun = Instant::now();
+        // Past the spin, polling only burns the core when the other side is not waiting on
+        // this one: a wake-up's delay then costs nobody a frame (the helper ahead of a busy main
+        // thread), so sleep at once.
+        if other.unhurried.load(Relaxed) {
+            let outcome = self.sleep(deadline, &ready);
+            phases.learn(&self.bounds, Phase::Sleep, spin, spun.elapsed());
+            return outcome;
+        }
         let yield_until =
             (spun + Duration::from_nanos(phases.yield_ns.load(Relaxed))).min(deadline);
         let (mut now, mut yields) = (spun, 0u32);
@@ -283,7 +301,9 @@ fn relax(pause: fn()) {
 
 impl Handoff for AdaptiveRing {
     fn wait_free(&self, deadline: Instant) -> Result<Free, TimedOut> {
-        self.wait(&self.producer, deadline, |r| r.free(self.depth))
+        self.wait((&self.producer, &self.consumer), deadline, |r| {
+            r.free(self.depth)
+        })
     }
 
     fn publish(&self) {
@@ -291,7 +311,9 @@ impl Handoff for AdaptiveRing {
     }
 
     fn wait_published(&self, frame: u64, deadline: Instant) -> Result<(), TimedOut> {
-        self.wait(&self.consumer, deadline, |r| r.filled(frame))
+        self.wait((&self.consumer, &self.producer), deadline, |r| {
+            r.filled(frame)
+        })
     }
 
     fn release(&self) {
