@@ -3,7 +3,8 @@
 //! adaptive mutexes do). Across two cores a short wait is caught while spinning, at the
 //! cache-line floor; on one core spinning cannot succeed (the other side needs the core), so the
 //! spin shrinks to nothing and the yield hands the core over; a waiter that always waits long
-//! stops polling and sleeps, which costs a wake-up but no CPU.
+//! stops polling and sleeps, which costs a wake-up but no CPU. So does a waiter whose other side
+//! is not waiting on it (its last wait was over at once): a late wake-up costs no frame there.
 //!
 //! The spin is counted in polls, converted from time with the machine's poll rate measured once
 //! per process (`polls`), so a wait the spin catches never reads the clock; the clock is read
@@ -231,14 +232,13 @@ impl AdaptiveRing {
         let spun = Instant::now();
         // Past the spin, polling only burns the core when the other side is not waiting on
         // this one: a wake-up's delay then costs nobody a frame (the helper ahead of a busy main
-        // thread), so sleep at once.
-        if other.unhurried.load(Relaxed) {
-            let outcome = self.sleep(deadline, &ready);
-            phases.learn(&self.bounds, Phase::Sleep, spin, spun.elapsed());
-            return outcome;
-        }
-        let yield_until =
-            (spun + Duration::from_nanos(phases.yield_ns.load(Relaxed))).min(deadline);
+        // thread), so there is no yield phase.
+        let yield_ns = if other.unhurried.load(Relaxed) {
+            0
+        } else {
+            phases.yield_ns.load(Relaxed)
+        };
+        let yield_until = (spun + Duration::from_nanos(yield_ns)).min(deadline);
         let (mut now, mut yields) = (spun, 0u32);
         // Under loom the phase is three looks whatever the clock says: a model must not depend on
         // time.
