@@ -5,23 +5,13 @@
 //! machine slows down mid-sweep (a shared VM's memory-bound step and ALU-bound workload do not
 //! slow down alike).
 
+pub use crate::config::Calibrate;
 use crate::config::Level;
-use crate::named;
 use crate::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
 use crate::stats;
 use crate::workload;
 use serde::{Deserialize, Serialize};
 use std::time::{Duration, Instant};
-
-named! {
-    /// When `step_fraction` levels are resolved against the machine.
-    pub enum Calibrate {
-        /// Before every row, from the yardstick measured just before it (the default).
-        Row,
-        /// Once, at the start of the sweep.
-        Once,
-    }
-}
 
 /// Drift beyond which a row's yardstick is reported as having moved since the sweep started.
 pub const DRIFT_WARNING: f64 = 0.10;

@@ -174,6 +174,10 @@ pub struct RunArgs {
     /// Measured seconds per trial, at least.
     #[arg(long, default_value_t = 1.0)]
     pub seconds: f64,
+    /// A trial stops after this many seconds even short of --frames (default: 10 × --seconds,
+    /// at least 10); a cell that stopped short is named on stderr.
+    #[arg(long)]
+    pub max_seconds: Option<f64>,
     /// Trials per cell, interleaved with the other cells' trials.
     #[arg(long, default_value_t = 3)]
     pub trials: u32,
@@ -257,7 +261,7 @@ crate::named! {
 /// Flags of `oceanbench compare`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "Exit status: 0 nothing regressed, 1 something regressed, 2 bad input.\n\nExamples:\n  oceanbench compare results/base results/new --threshold 5 --format markdown\n  oceanbench compare results/sync-primitives-X --by sync --baseline atomic"
+    after_help = "Verdicts: improved or regressed when the whole 95% interval clears the threshold; below threshold when it excludes 0 but does not clear it; within noise when it includes 0; too few trials when a side has fewer than 5 (point estimate only, never a failure).\n\nExit status: 0 nothing regressed, 1 something regressed, 2 bad input, no cell compared, or (with --strict) runs that are not like for like.\n\nExamples:\n  oceanbench compare results/base results/new --threshold 5 --format markdown\n  oceanbench compare results/base results/new --strict\n  oceanbench compare results/sync-primitives-X --by sync --baseline atomic"
 )]
 pub struct CompareArgs {
     /// Baseline results (directory or results.json); with --by, the one run to compare within.
@@ -280,6 +284,10 @@ pub struct CompareArgs {
     /// Output format.
     #[arg(long, value_enum, default_value = "text")]
     pub format: CompareFormat,
+    /// Exit 2 when the two runs are not like for like (another CPU, core count or core
+    /// placement, or workload levels more than 10% apart in microseconds) instead of warning.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// Flags of `oceanbench latency`.
@@ -308,7 +316,7 @@ pub struct BalanceArgs {
     /// A config (JSON) whose dimension lists choose the cells and whose `balance` object sets
     /// the search; the flags below override it.
     pub config: Option<PathBuf>,
-    /// The cells to search (workload is ignored: the search sets it).
+    /// The cells to search (not --workload: the search sets it).
     #[command(flatten)]
     pub select: DimArgs,
     /// Stop when the bracket is narrower than this percentage of the step (default 2).

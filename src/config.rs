@@ -2,8 +2,7 @@
 //! defaults that reproduce Figure 5-1 and validation that names the field and what is allowed.
 
 use crate::affinity;
-use crate::balance::BalanceSettings;
-use crate::calibrate::Calibrate;
+use crate::balance::record::BalanceSettings;
 use crate::cell::{Axes, CellKey};
 use crate::frame_loop::{check_depth, check_helpers, Budget, Mode};
 use crate::ocean::{mesh, normals, Grid, Mesh, NormalMethod, Wave, WaveSet};
@@ -12,6 +11,16 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 pub use crate::input::InputError;
+
+crate::named! {
+    /// When `step_fraction` levels are resolved against the machine.
+    pub enum Calibrate {
+        /// Before every row, from the yardstick measured just before it (the default).
+        Row,
+        /// Once, at the start of the sweep.
+        Once,
+    }
+}
 
 /// One workload level: microseconds of one core's work, or a fraction of a mesh size's step.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -164,9 +164,22 @@ impl Placement {
     }
 }
 
+/// The layout of results.json this build writes. Every change to the layout bumps it; files
+/// of every earlier version still load, and a file of a later one is refused rather than
+/// misread.
+pub const SCHEMA_VERSION: u32 = 1;
+
+/// Files written before the field existed have today's layout, version 1.
+fn version_1() -> u32 {
+    1
+}
+
 /// A whole results file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Results {
+    /// The layout's version ([`SCHEMA_VERSION`] when written by this build).
+    #[serde(default = "version_1")]
+    pub schema_version: u32,
     /// The machine measured on.
     pub machine: Machine,
     /// The config as run.
@@ -188,7 +201,7 @@ pub struct Results {
     pub doctor: Option<crate::doctor::Report>,
     /// Balance points found (`oceanbench balance`, or a sweep with a `balance` key).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub balance: Vec<crate::balance::BalanceEntry>,
+    pub balance: Vec<crate::balance::record::BalanceEntry>,
     /// Balance searches a sweep could not complete, and why.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub balance_failures: Vec<String>,
@@ -204,6 +217,14 @@ pub enum LoadError {
         path: PathBuf,
         /// What the OS said.
         source: std::io::Error,
+    },
+    /// The file was written by a newer oceanbench, in a layout this build does not know.
+    #[error("{}: results schema version {found}, newer than this build's {SCHEMA_VERSION}; read it with a newer oceanbench", path.display())]
+    Newer {
+        /// The file.
+        path: PathBuf,
+        /// Its schema version.
+        found: u32,
     },
     /// The file is not a results file.
     #[error("{}: not an oceanbench results file: {source}", path.display())]
@@ -227,6 +248,21 @@ impl Results {
             Ok(text) => text,
             Err(source) => return Err(LoadError::Read { path, source }),
         };
+        // The version is read first, so a newer layout is named as such rather than reported
+        // as whatever field it changed.
+        #[derive(Deserialize)]
+        struct Version {
+            #[serde(default = "version_1")]
+            schema_version: u32,
+        }
+        if let Ok(Version { schema_version }) = serde_json::from_str::<Version>(&text) {
+            if schema_version > SCHEMA_VERSION {
+                return Err(LoadError::Newer {
+                    path,
+                    found: schema_version,
+                });
+            }
+        }
         serde_json::from_str(&text).map_err(|source| LoadError::Parse { path, source })
     }
 

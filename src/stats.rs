@@ -140,6 +140,29 @@ mod tests {
         assert!(same.0 < 0.0 && same.1 > 0.0, "{same:?}");
     }
 
+    /// Hand-computed bounds: against a constant base, resampled means of four 100s and four 200s
+    /// change by 12.5·k % with k ~ Binomial(8, ½), whose CDF is 0.0352 at k = 1 and 0.9648 at
+    /// k = 6. The 2.5 % point is therefore k = 1 and the 97.5 % point k = 7; a 5 %/95 %
+    /// interval would give k = 2 and 6.
+    #[test]
+    fn the_bootstrap_takes_the_2_5_and_97_5_percent_points() {
+        let base = [100.0; 8];
+        let new = [100.0, 100.0, 100.0, 100.0, 200.0, 200.0, 200.0, 200.0];
+        assert_eq!(bootstrap_change_pct(&base, &new, 10_000, 3), (12.5, 87.5));
+        // Equal values on sides of different lengths change by nothing at all.
+        assert_eq!(
+            bootstrap_change_pct(&[100.0; 3], &[100.0; 7], 1_000, 3),
+            (0.0, 0.0)
+        );
+    }
+
+    /// SplitMix64's published first output for seed 0 (Vigna's reference implementation):
+    /// the committed intervals can be reproduced only with this exact generator.
+    #[test]
+    fn the_generator_is_splitmix64() {
+        assert_eq!(SplitMix64(0).next_u64(), 0xE220_A839_7B1D_CDAF);
+    }
+
     #[test]
     fn the_generator_is_uniform_enough_and_seeds_differ_by_name() {
         let mut rng = SplitMix64(1);

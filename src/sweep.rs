@@ -2,12 +2,12 @@
 //! interleaved, and hands the results to an [`Observer`] after every row (the sweep command
 //! rewrites the results files there), so an interrupted sweep keeps every finished row.
 
-use crate::balance::{self, BalanceError, BalanceSettings};
+use crate::balance::{self, BalanceError, BalanceSettings, Testbed};
 use crate::calibrate::{self, Calibrate, RowCalibration, Yardstick};
 use crate::cell::{Dim, Value};
 use crate::config::{self, InputError, SweepConfig};
 use crate::crosscore;
-use crate::frame_loop::{self, LoopError, LoopSpec, Mode, Threading};
+use crate::frame_loop::{self, Budget, LoopError, LoopSpec, Mode, Threading};
 use crate::machine::Machine;
 use crate::measure::{Mailbox, Summary, Trial};
 use crate::ocean::{Grid, WaveSet};
@@ -137,6 +137,7 @@ impl Sweep {
         let keys = cells(&config);
         Ok(Sweep {
             results: Results {
+                schema_version: crate::results::SCHEMA_VERSION,
                 machine: Machine::current(),
                 config,
                 calibration,
@@ -172,6 +173,7 @@ impl Sweep {
             .collect();
         Ok(Sweep {
             results: Results {
+                schema_version: crate::results::SCHEMA_VERSION,
                 finished: None,
                 ..previous
             },
@@ -465,5 +467,24 @@ impl CellRun {
                 retries: self.retries,
             }),
         }
+    }
+}
+
+/// A balance search probes on the sweep's own set-up: its loops, budget, calibration and cores.
+impl Testbed for Sweep {
+    fn loop_spec(&self, key: &CellKey, iterations: u64) -> LoopSpec {
+        Sweep::loop_spec(self, key, iterations)
+    }
+
+    fn budget(&self) -> Budget {
+        self.results.config.budget()
+    }
+
+    fn ns_per_iteration(&self) -> f64 {
+        self.results.calibration.workload.ns_per_iteration
+    }
+
+    fn cores(&self) -> [usize; 2] {
+        Sweep::cores(self)
     }
 }

@@ -42,6 +42,13 @@ fn a_tiny_search_brackets_the_balance_and_writes_its_files() {
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(run.status.success(), "{stderr}");
     let results = Results::load(&out).unwrap();
+    // One entry per searched cell: the loop below checks nothing if the list is empty.
+    let modes = mode.split(',').count();
+    assert_eq!(results.balance.len(), modes, "{:?}", results.balance);
+    assert!(
+        results.balance.iter().any(|e| e.balance_us.is_some()) || modes == 1,
+        "DP finds a balance point on two cores"
+    );
     for e in &results.balance {
         assert!(e.step_us > 0.0);
         assert!(e.probes.len() >= 4, "the curve's points at least");

@@ -88,6 +88,7 @@ fn results(config: SweepConfig, cells: Vec<Cell>) -> Results {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json");
     let template = Results::load(&path).expect("fixture loads");
     Results {
+        schema_version: oceanbench::results::SCHEMA_VERSION,
         config,
         cells,
         ..template
@@ -300,4 +301,78 @@ fn results_written_before_helpers_existed_still_load() {
     assert_eq!(again, old, "a loaded file writes back to itself");
     let expanded = again.config.axes.cells();
     assert!(old.cells.iter().all(|c| expanded.contains(&c.key)));
+}
+
+/// Every dimension survives results.json: written, read back, each cell keeps its value and
+/// the two cells stay apart by key.
+#[test]
+fn every_dimension_round_trips_through_results_json() {
+    for &dim in Dim::ALL {
+        let (a, b) = pair(dim);
+        let r = results(
+            config(dim),
+            vec![cell(a.clone(), 125.0), cell(b.clone(), 250.0)],
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("results.json");
+        std::fs::write(&path, oceanbench::report::json::to_string(&r).unwrap()).unwrap();
+        let back = Results::load(&path).unwrap();
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        for (i, key) in [&a, &b].into_iter().enumerate() {
+            assert_eq!(&back.cells[i].key, key, "{dim}");
+            assert_eq!(
+                back.cell(key).unwrap().summary.as_ref().unwrap().fps,
+                r.cells[i].summary.as_ref().unwrap().fps
+            );
+            let stored = &json["cells"][i][dim.name()];
+            assert!(
+                !stored.is_null(),
+                "{dim}: no `{}` in results.json cell {i}",
+                dim.name()
+            );
+        }
+    }
+}
+
+/// Every chart the pair of cells can draw names the dimension's value it shows: either it lays
+/// the dimension out (both values appear) or, holding it at one value, says which.
+#[test]
+fn every_chart_names_the_value_of_every_dimension() {
+    for &dim in Dim::ALL {
+        let (a, b) = pair(dim);
+        let vb = b.get(dim).unwrap();
+        let r = results(config(dim), vec![cell(a, 125.0), cell(b, 250.0)]);
+        let dir = tempfile::tempdir().unwrap();
+        // The charts lay modes out themselves and refuse a mode selection.
+        let select = if dim == Dim::Mode {
+            vec![]
+        } else {
+            vec![(dim, vb)]
+        };
+        let options = ChartOptions {
+            formats: vec![ChartFormat::Svg],
+            select,
+        };
+        let drawn = chart::draw_with(std::slice::from_ref(&r), dir.path(), &options).unwrap();
+        assert!(drawn.files.len() >= 4, "{dim}: {:?}", drawn.skipped);
+        for file in &drawn.files {
+            let svg = std::fs::read_to_string(file).unwrap();
+            let name = file.file_name().unwrap().to_string_lossy();
+            let label = vb.to_string();
+            let named = svg.contains(&dim.title(vb))
+                || has_word(&svg, &label)
+                || has_word(&svg, &label.to_uppercase());
+            assert!(named, "{dim}: {name} does not name {label}");
+        }
+    }
+}
+
+/// Whether some text element of an SVG has `word` as a whole word.
+fn has_word(svg: &str, word: &str) -> bool {
+    let doc = roxmltree::Document::parse(svg).expect("SVG parses");
+    doc.descendants().filter_map(|n| n.text()).any(|t| {
+        t.split(|c: char| c.is_whitespace() || ",:;()·".contains(c))
+            .any(|w| w == word)
+    })
 }

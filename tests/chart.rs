@@ -220,8 +220,8 @@ fn run_ahead_is_charted_as_fps_against_latency() {
         axes: Axes {
             sizes: vec![16],
             workloads: vec![0],
-            modes: vec![Mode::Up],
-            sync: vec![SyncMethod::Atomic],
+            modes: vec![Mode::Up, Mode::Dp],
+            sync: vec![SyncMethod::Atomic, SyncMethod::Mutex, SyncMethod::Condvar],
             depth: vec![1, 2],
             consume: vec![Consume::Copy, Consume::Handle],
             ..Axes::default()
@@ -236,13 +236,99 @@ fn run_ahead_is_charted_as_fps_against_latency() {
     let results = Sweep::prepare(config).unwrap().run(&mut ());
     let dir = tempfile::tempdir().unwrap();
     let files = chart::draw(&[results], dir.path(), &[ChartFormat::Svg]).unwrap();
-    let text = svg_text(&file(&files, "latency-vs-fps.svg"));
+    let svg = file(&files, "latency-vs-fps.svg");
+    let text = svg_text(&svg);
     for series in [
-        "UP (1 core) atomic copy",
-        "UP (1 core) atomic handle",
+        "atomic copy",
+        "atomic handle",
+        "mutex copy",
+        "condvar handle",
+        "UP (1 core), 16×16 mesh",
+        "DP (2 cores), 16×16 mesh",
         "d1",
         "d2",
     ] {
         assert!(text.contains(series), "no {series:?}");
+    }
+    // Six series (three methods × two consumptions), each its own colour, the same colour in
+    // the UP and the DP panel.
+    let source = std::fs::read_to_string(&svg).unwrap();
+    let doc = roxmltree::Document::parse(&source).unwrap();
+    let mut fills: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("circle"))
+        .filter_map(|n| n.attribute("fill"))
+        .collect();
+    fills.sort_unstable();
+    fills.dedup();
+    assert_eq!(fills.len(), 6, "{fills:?}");
+    // Labels never overlap: a two-character label at 13 px is at least 12 px wide and 10 high.
+    let labels: Vec<(f64, f64)> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter(|n| n.text().is_some_and(|t| matches!(t.trim(), "d1" | "d2")))
+        .filter_map(|n| {
+            Some((
+                n.attribute("x")?.parse().ok()?,
+                n.attribute("y")?.parse().ok()?,
+            ))
+        })
+        .collect();
+    assert!(labels.len() >= 2, "the depths are labelled");
+    // UP panels above DP ones.
+    let caption_y = |prefix: &str| -> f64 {
+        doc.descendants()
+            .filter(|n| n.has_tag_name("text"))
+            .find(|n| n.text().is_some_and(|t| t.trim().starts_with(prefix)))
+            .and_then(|n| n.attribute("y")?.parse().ok())
+            .unwrap_or_else(|| panic!("no caption {prefix}"))
+    };
+    assert!(caption_y("UP (1 core), 16") < caption_y("DP (2 cores), 16"));
+    for (i, a) in labels.iter().enumerate() {
+        for b in &labels[i + 1..] {
+            assert!(
+                (a.0 - b.0).abs() >= 12.0 || (a.1 - b.1).abs() >= 10.0,
+                "labels at {a:?} and {b:?} overlap"
+            );
+        }
+    }
+}
+
+/// The sync chart has a slot only for methods of the chart's policy, and promises a serial
+/// line only when the run has serial cells.
+#[test]
+fn the_sync_chart_shows_only_what_the_run_has() {
+    let with_serial = fixture();
+    assert!(with_serial.config.axes.modes.contains(&Mode::Serial));
+    let mut no_serial = with_serial.clone();
+    no_serial.cells.retain(|c| c.key.mode != Mode::Serial);
+    no_serial.config.axes.modes.retain(|&m| m != Mode::Serial);
+    // A latest-only method listed in the config has no FIFO cell to show.
+    no_serial.config.axes.sync.push(SyncMethod::TripleBuffer);
+    for (results, serial) in [(with_serial, true), (no_serial, false)] {
+        let dir = tempfile::tempdir().unwrap();
+        let files = chart::draw(&[results], dir.path(), &[ChartFormat::Svg]).unwrap();
+        let text = svg_text(&file(&files, "sync.svg"));
+        assert_eq!(text.contains("Dashed line: serial FPS"), serial, "{text}");
+        assert_eq!(text.lines().any(|l| l.trim() == "serial"), serial, "{text}");
+        assert!(!text.contains("triple-buffer"), "{text}");
+        assert!(
+            !text.contains("missing"),
+            "nothing the run meant to measure is missing: {text}"
+        );
+        for m in [
+            "atomic",
+            "spin",
+            "mutex",
+            "condvar",
+            "mutex-std",
+            "condvar-std",
+        ] {
+            assert!(text.lines().any(|l| l.trim() == m), "no group {m}");
+        }
+        let frames = svg_text(&file(&files, "frame-times.svg"));
+        assert_eq!(frames.lines().any(|l| l.trim() == "serial"), serial);
+        assert!(!frames.contains("triple-buffer"), "{frames}");
+        assert!(!frames.contains("missing"), "{frames}");
     }
 }

@@ -365,7 +365,19 @@ fn compare_exits_0_unchanged_1_regressed_2_bad_input() {
     assert_eq!(same.status.code(), Some(0));
     assert!(String::from_utf8_lossy(&same.stdout).contains("0 regressed"));
     let dir = tempfile::tempdir().unwrap();
-    let mut slower = Results::load(Path::new(fixture)).unwrap();
+    // The fixture's two trials a cell are too few for a verdict: give both sides five.
+    let mut five = Results::load(Path::new(fixture)).unwrap();
+    for c in &mut five.cells {
+        if let Some(s) = c.summary.as_mut() {
+            let f = s.fps;
+            s.fps_trials = [0.99, 0.995, 1.0, 1.005, 1.01].map(|k| f * k).to_vec();
+        }
+    }
+    let five_path = dir.path().join("five.json");
+    std::fs::write(&five_path, serde_json::to_string(&five).unwrap()).unwrap();
+    let two_trials = fixture;
+    let fixture = five_path.to_str().unwrap();
+    let mut slower = five.clone();
     let cell = slower
         .cells
         .iter_mut()
@@ -380,6 +392,24 @@ fn compare_exits_0_unchanged_1_regressed_2_bad_input() {
     let out = oceanbench(&["compare", fixture, path.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stdout).contains(&label));
+    let mut slower_two = Results::load(Path::new(two_trials)).unwrap();
+    for c in slower_two
+        .cells
+        .iter_mut()
+        .filter_map(|c| c.summary.as_mut())
+    {
+        c.fps /= 2.0;
+        c.fps_trials.iter_mut().for_each(|f| *f /= 2.0);
+    }
+    let path_two = dir.path().join("slower-two.json");
+    std::fs::write(&path_two, serde_json::to_string(&slower_two).unwrap()).unwrap();
+    let out = oceanbench(&["compare", two_trials, path_two.to_str().unwrap()]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "two trials a side never fail CI"
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("too few trials"));
     assert_input_error(
         &["compare", fixture, "/nonexistent.json"],
         &["/nonexistent.json"],
@@ -425,5 +455,52 @@ fn chart_redraws_from_a_results_file_and_refuses_bad_paths() {
     assert_input_error(
         &["chart", fixture.to_str().unwrap(), "--format", "gif"],
         &["png, svg"],
+    );
+}
+
+/// A chart filter no cell has, and `balance --workload` (the search sets the workload), are
+/// refused with the values that would work.
+#[test]
+fn filters_that_would_draw_nothing_are_refused() {
+    let fixture = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/quick-results.json"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().to_str().unwrap();
+    assert_input_error(
+        &["chart", fixture, "--sync", "flume", "--out", out],
+        &["--sync", "flume", "atomic", "condvar-std"],
+    );
+    assert!(
+        std::fs::read_dir(dir.path()).unwrap().next().is_none(),
+        "no empty chart written"
+    );
+    assert_input_error(&["balance", "--workload", "2"], &["--workload", "--range"]);
+}
+
+/// A trial cut short by the time cap says so on stderr instead of capping --frames silently.
+#[test]
+fn frames_cut_short_by_the_time_cap_are_named() {
+    let out = oceanbench(&[
+        "run",
+        "--size",
+        "16",
+        "--mode",
+        "serial",
+        "--frames",
+        "100000000",
+        "--seconds",
+        "0.01",
+        "--max-seconds",
+        "0.05",
+        "--trials",
+        "1",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("fewer than --frames 100000000") && err.contains("--max-seconds 0.05"),
+        "{err}"
     );
 }

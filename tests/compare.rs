@@ -18,6 +18,19 @@ fn set_trials(cell: &mut Cell, trials: &[f64]) {
     s.fps = trials.iter().sum::<f64>() / trials.len() as f64;
 }
 
+/// The fixture with five trials per cell (its own two are too few for a verdict): each cell's
+/// headline FPS times 0.99, 0.995, 1, 1.005 and 1.01.
+fn five_trials() -> Results {
+    let mut r = fixture();
+    for c in &mut r.cells {
+        if let Some(s) = c.summary.as_mut() {
+            let f = s.fps;
+            s.fps_trials = [0.99, 0.995, 1.0, 1.005, 1.01].map(|k| f * k).to_vec();
+        }
+    }
+    r
+}
+
 fn one_cell(results: &Results, trials: &[f64]) -> Results {
     let mut r = results.clone();
     r.cells.truncate(1);
@@ -27,10 +40,14 @@ fn one_cell(results: &Results, trials: &[f64]) -> Results {
 
 #[test]
 fn fixture_against_itself_is_all_within_noise() {
-    let r = fixture();
+    let r = five_trials();
     let c = compare::between(&r, &r, 5.0, Metric::Fps);
     assert_eq!(c.changes.len(), r.cells.len());
     assert!(c.changes.iter().all(|c| c.verdict == Verdict::WithinNoise));
+    assert!(
+        c.warnings.is_empty(),
+        "one run is like for like with itself"
+    );
     assert!(c.changes.iter().all(|c| c.change_pct == 0.0));
     assert!(c
         .changes
@@ -50,7 +67,7 @@ fn fixture_against_itself_is_all_within_noise() {
 
 #[test]
 fn halved_cell_is_regressed_and_named() {
-    let base = fixture();
+    let base = five_trials();
     let mut new = base.clone();
     let victim = new.cells[5].key.label();
     let s = new.cells[5].summary.as_mut().unwrap();
@@ -84,8 +101,8 @@ fn halved_cell_is_regressed_and_named() {
 #[test]
 fn overlapping_trials_are_within_noise() {
     let r = fixture();
-    let base = one_cell(&r, &[100.0, 120.0, 80.0]);
-    let new = one_cell(&r, &[110.0, 90.0, 115.0]);
+    let base = one_cell(&r, &[100.0, 120.0, 80.0, 100.0, 100.0]);
+    let new = one_cell(&r, &[110.0, 90.0, 115.0, 105.0, 105.0]);
     let c = compare::between(&base, &new, 5.0, Metric::Fps);
     let ch = &c.changes[0];
     assert!((ch.change_pct - 5.0).abs() < 1e-9);
@@ -100,26 +117,96 @@ fn overlapping_trials_are_within_noise() {
 #[test]
 fn tight_trials_clear_the_threshold() {
     let r = fixture();
-    let base = one_cell(&r, &[100.0, 101.0, 99.0]);
-    let up = one_cell(&r, &[110.0, 111.0, 109.0]);
+    let base = one_cell(&r, &[100.0, 101.0, 99.0, 100.5, 99.5]);
+    let up = one_cell(&r, &[110.0, 111.0, 109.0, 110.5, 109.5]);
     let c = compare::between(&base, &up, 5.0, Metric::Fps);
     assert_eq!(c.changes[0].verdict, Verdict::Improved);
-    // The same +10% does not clear a 12% threshold.
+    // The same +10% does not clear a 12% threshold, but its interval excludes 0: it is real,
+    // and the words say so rather than "within noise".
     let c = compare::between(&base, &up, 12.0, Metric::Fps);
-    assert_eq!(c.changes[0].verdict, Verdict::WithinNoise);
+    let ch = &c.changes[0];
+    assert!(ch.ci_low_pct > 0.0 && ch.ci_low_pct < 12.0, "{ch:?}");
+    assert_eq!(ch.verdict, Verdict::BelowThreshold);
+    assert!(!c.regressed());
+    assert!(c.to_text().contains("below threshold"), "{}", c.to_text());
+    assert!(c.summary_line().contains("1 below threshold"));
+    // Markdown shows it among the notable rows, not folded away with the noise.
+    let md = c.to_markdown();
+    let notable = md.split("<details>").next().unwrap();
+    assert!(notable.contains("| below threshold |"), "{md}");
+    // The same drop the other way regresses at 5 % but only reads "below threshold" at 12 %.
+    assert_eq!(
+        compare::between(&up, &base, 12.0, Metric::Fps).changes[0].verdict,
+        Verdict::BelowThreshold
+    );
+}
+
+/// An interval that includes 0 is "within noise" even when the point estimate is beyond the
+/// threshold; with the interval excluding 0 on the other side the same point would be real.
+#[test]
+fn within_noise_only_when_the_interval_includes_zero() {
+    let r = fixture();
+    let base = one_cell(&r, &[100.0, 100.0, 100.0, 100.0, 100.0]);
+    let wide = one_cell(&r, &[70.0, 150.0, 100.0, 130.0, 90.0]);
+    let c = compare::between(&base, &wide, 5.0, Metric::Fps);
+    let ch = &c.changes[0];
+    assert!(ch.ci_low_pct <= 0.0 && ch.ci_high_pct >= 0.0, "{ch:?}");
+    assert_eq!(ch.verdict, Verdict::WithinNoise);
+}
+
+#[test]
+fn too_few_trials_get_no_verdict_and_never_fail() {
+    let r = fixture();
+    let few = compare::MIN_TRIALS - 1;
+    let base = one_cell(&r, &vec![100.0; few]);
+    let halved = one_cell(&r, &vec![50.0; few]);
+    let c = compare::between(&base, &halved, 5.0, Metric::Fps);
+    let ch = &c.changes[0];
+    assert_eq!(ch.verdict, Verdict::TooFewTrials);
+    assert!(
+        (ch.change_pct + 50.0).abs() < 1e-9,
+        "the point estimate is kept"
+    );
+    assert_eq!((ch.base_trials, ch.new_trials), (few, few));
+    assert!(!c.regressed(), "too few trials never fail CI");
+    let text = c.to_text();
+    assert!(
+        text.contains("too few trials") && text.contains("-50.0%"),
+        "{text}"
+    );
+    assert!(text.contains(&format!("n = {few} vs {few}")), "{text}");
+    // One side at the minimum is not enough if the other is below it, either way round.
+    let five = one_cell(&r, &[50.0; compare::MIN_TRIALS]);
+    assert_eq!(
+        compare::between(&base, &five, 5.0, Metric::Fps).changes[0].verdict,
+        Verdict::TooFewTrials
+    );
+    let base_five = one_cell(&r, &[100.0; compare::MIN_TRIALS]);
+    assert_eq!(
+        compare::between(&base_five, &halved, 5.0, Metric::Fps).changes[0].verdict,
+        Verdict::TooFewTrials
+    );
+    // At the minimum on both sides the same halving regresses.
+    let base5 = one_cell(&r, &[100.0; compare::MIN_TRIALS]);
+    assert!(compare::between(&base5, &five, 5.0, Metric::Fps).regressed());
 }
 
 #[test]
 fn single_trial_uses_the_point_estimate_and_is_marked() {
     let r = fixture();
     let base = one_cell(&r, &[100.0]);
-    let new = one_cell(&r, &[80.0, 81.0]);
+    let new = one_cell(&r, &[80.0, 81.0, 79.0, 80.0, 80.0]);
     let c = compare::between(&base, &new, 5.0, Metric::Fps);
     let ch = &c.changes[0];
     assert!(ch.single_trial);
     assert_eq!(ch.ci_low_pct, ch.change_pct);
     assert_eq!(ch.ci_high_pct, ch.change_pct);
-    assert_eq!(ch.verdict, Verdict::Regressed);
+    assert_eq!(
+        ch.verdict,
+        Verdict::TooFewTrials,
+        "a 1-trial cell never gets a verdict"
+    );
+    assert!(!c.regressed());
     assert!(c.to_text().contains("* one trial"));
 }
 
@@ -149,7 +236,7 @@ fn unmatched_and_failed_cells_are_listed() {
 
 #[test]
 fn within_by_sync_ranks_five_methods_per_group() {
-    let r = fixture();
+    let r = five_trials();
     let c = compare::within(&r, Dim::Sync, "atomic", 5.0, Metric::Fps).unwrap();
     let groups: Vec<_> = r
         .cells
@@ -238,7 +325,7 @@ fn bad_baselines_name_the_values_present() {
 
 #[test]
 fn json_round_trips() {
-    let r = fixture();
+    let r = five_trials();
     let c = compare::within(&r, Dim::Sync, "atomic", 5.0, Metric::Fps).unwrap();
     let back: Comparison = serde_json::from_str(&c.to_json()).unwrap();
     // serde_json's default float parsing may differ from the printed value in the last bit.
@@ -261,18 +348,20 @@ fn json_round_trips() {
 fn waiting_cpu_is_compared_with_lower_better() {
     let r = fixture();
     let with_cpu = |cpu: &[f64]| {
-        let mut one = one_cell(&r, &[100.0, 101.0, 99.0]);
+        let mut one = one_cell(&r, &[100.0, 101.0, 99.0, 100.5, 99.5]);
         one.cells[0].summary.as_mut().unwrap().wait_cpu_ms_trials = cpu.to_vec();
         one
     };
-    let base = with_cpu(&[1.0, 1.02, 0.98]);
-    let more = compare::between(&base, &with_cpu(&[2.0, 2.04, 1.96]), 5.0, Metric::WaitCpu);
+    let base = with_cpu(&[1.0, 1.02, 0.98, 1.01, 0.99]);
+    let double = [2.0, 2.04, 1.96, 2.02, 1.98];
+    let more = compare::between(&base, &with_cpu(&double), 5.0, Metric::WaitCpu);
     assert_eq!(more.changes[0].verdict, Verdict::Regressed);
     assert!(more.regressed());
-    let less = compare::between(&base, &with_cpu(&[0.5, 0.51, 0.49]), 5.0, Metric::WaitCpu);
+    let half = [0.5, 0.51, 0.49, 0.505, 0.495];
+    let less = compare::between(&base, &with_cpu(&half), 5.0, Metric::WaitCpu);
     assert_eq!(less.changes[0].verdict, Verdict::Improved);
     assert!(less.to_text().contains("waiting CPU ms"));
-    let fps = compare::between(&base, &with_cpu(&[2.0, 2.04, 1.96]), 5.0, Metric::Fps);
+    let fps = compare::between(&base, &with_cpu(&double), 5.0, Metric::Fps);
     assert_eq!(
         fps.changes[0].verdict,
         Verdict::WithinNoise,
@@ -281,4 +370,267 @@ fn waiting_cpu_is_compared_with_lower_better() {
     // Results from before the CPU was recorded cannot be compared on it, and say so.
     let old = compare::between(&r, &r, 5.0, Metric::WaitCpu);
     assert!(old.changes.is_empty() && !old.failed.is_empty());
+}
+
+#[test]
+fn nothing_matched_is_an_error_not_a_pass() {
+    let r = five_trials();
+    let mut other = r.clone();
+    for c in &mut other.cells {
+        c.key.size += 1;
+    }
+    let c = compare::between(&r, &other, 5.0, Metric::Fps);
+    assert!(c.changes.is_empty() && !c.regressed());
+    let why = c.nothing_compared().expect("no pair is an error");
+    assert!(
+        why.contains("no cell matched") && !why.contains('\n'),
+        "{why}"
+    );
+    assert!(compare::between(&r, &r, 5.0, Metric::Fps)
+        .nothing_compared()
+        .is_none());
+    // Pairs that exist but all failed are no comparison either.
+    let mut failed = r.clone();
+    for c in &mut failed.cells {
+        c.summary = None;
+        c.error = Some("stalled".into());
+    }
+    let why = compare::between(&r, &failed, 5.0, Metric::Fps)
+        .nothing_compared()
+        .unwrap();
+    assert!(why.contains("stalled"), "{why}");
+}
+
+#[test]
+fn runs_that_are_not_like_for_like_are_named() {
+    let base = five_trials();
+    let mut new = base.clone();
+    new.machine.cpu_model = "AMD EPYC".into();
+    new.machine.logical_cores = 4;
+    for t in new
+        .round_trip
+        .before
+        .iter_mut()
+        .chain(&mut new.round_trip.during)
+    {
+        t.median_ns *= 3.0;
+    }
+    for t in new.round_trip.after.iter_mut() {
+        t.median_ns *= 3.0;
+    }
+    new.calibration.levels[2].micros *= 1.2;
+    let w = compare::mismatches(&base, &new);
+    assert_eq!(w.len(), 4, "{w:?}");
+    assert!(w[0].contains("AMD EPYC") && w[0].contains(&base.machine.cpu_model));
+    assert!(w[1].contains("4") && w[1].contains("core counts"));
+    assert!(w[2].contains("placement"));
+    assert!(w[3].starts_with("workload 2"), "{w:?}");
+    let c = compare::between(&base, &new, 5.0, Metric::Fps);
+    assert_eq!(c.warnings, w);
+    assert!(c.to_text().contains("warning: different CPUs"));
+    assert!(c.to_markdown().contains("**Warning**: workload 2"));
+    // Within the noise the sweep itself tolerates, levels and placements are the same.
+    let mut near = base.clone();
+    near.calibration.levels[2].micros *= 1.05;
+    for t in near.round_trip.before.iter_mut() {
+        t.median_ns *= 1.5;
+    }
+    assert!(compare::mismatches(&base, &near).is_empty());
+}
+
+fn write(dir: &Path, name: &str, r: &Results) -> std::path::PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, serde_json::to_string(r).unwrap()).unwrap();
+    p
+}
+
+fn oceanbench(args: &[&std::ffi::OsStr]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_oceanbench"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+/// The command's exit statuses: 2 when nothing was compared (CI must not pass vacuously), a
+/// warning and exit 0 for runs that are not like for like, exit 2 for them with --strict.
+#[test]
+fn the_command_refuses_vacuous_and_unlike_comparisons() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = five_trials();
+    let mut shifted = base.clone();
+    shifted.cells.iter_mut().for_each(|c| c.key.size += 1);
+    let mut other_cpu = base.clone();
+    other_cpu.machine.cpu_model = "AMD EPYC".into();
+    let b = write(dir.path(), "base.json", &base);
+    let s = write(dir.path(), "shifted.json", &shifted);
+    let o = write(dir.path(), "other.json", &other_cpu);
+
+    let out = oceanbench(&["compare".as_ref(), b.as_os_str(), s.as_os_str()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("no cell matched") && err.trim().lines().count() == 1,
+        "{err}"
+    );
+
+    let out = oceanbench(&["compare".as_ref(), b.as_os_str(), o.as_os_str()]);
+    assert_eq!(out.status.code(), Some(0), "a warning only");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("warning: different CPUs"));
+
+    let strict = oceanbench(&[
+        "compare".as_ref(),
+        b.as_os_str(),
+        o.as_os_str(),
+        "--strict".as_ref(),
+    ]);
+    assert_eq!(strict.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&strict.stderr);
+    assert!(
+        err.contains("--strict") && err.contains("AMD EPYC"),
+        "{err}"
+    );
+
+    let same = oceanbench(&[
+        "compare".as_ref(),
+        b.as_os_str(),
+        b.as_os_str(),
+        "--strict".as_ref(),
+    ]);
+    assert_eq!(same.status.code(), Some(0));
+}
+
+/// The documented minimum: four trials a side are too few, five are enough (docs/ci.md and
+/// `compare --help` say 5).
+#[test]
+fn five_trials_a_side_is_the_documented_minimum() {
+    let r = fixture();
+    let four = |v: f64| one_cell(&r, &[v, v * 1.001, v * 0.999, v]);
+    let five = |v: f64| one_cell(&r, &[v, v * 1.001, v * 0.999, v, v * 1.0005]);
+    assert_eq!(
+        compare::between(&four(100.0), &four(50.0), 5.0, Metric::Fps).changes[0].verdict,
+        Verdict::TooFewTrials
+    );
+    assert_eq!(
+        compare::between(&five(100.0), &five(50.0), 5.0, Metric::Fps).changes[0].verdict,
+        Verdict::Regressed
+    );
+    let help = std::process::Command::new(env!("CARGO_BIN_EXE_oceanbench"))
+        .args(["compare", "--help"])
+        .output()
+        .unwrap();
+    let help = String::from_utf8_lossy(&help.stdout);
+    assert!(help.contains("fewer than 5"), "{help}");
+}
+
+/// A cell re-run and appended to a file is compared once, by its first record.
+#[test]
+fn a_rerun_cell_is_compared_once() {
+    let r = five_trials();
+    let mut twice = r.clone();
+    let mut again = twice.cells[0].clone();
+    set_trials(&mut again, &[1.0; 5]);
+    twice.cells.push(again);
+    let c = compare::between(&r, &twice, 5.0, Metric::Fps);
+    assert_eq!(c.changes.len(), r.cells.len());
+    assert!(!c.regressed(), "the second record is not the one compared");
+    let c = compare::between(&twice, &r, 5.0, Metric::Fps);
+    assert_eq!(
+        c.changes.len(),
+        r.cells.len(),
+        "nor compared twice as a base"
+    );
+}
+
+/// One noisy trial on one side is enough for the mark.
+#[test]
+fn one_noisy_trial_marks_the_verdict() {
+    let r = fixture();
+    let base = one_cell(&r, &[100.0; 5]);
+    let mut new = base.clone();
+    let quiet = r#"{"wall_ns": 1000000, "threads": [{"thread": "main", "core": 0, "cpu_ns": 1000000, "run_delay_ns": 0, "involuntary_switches": 0}], "steal_ns": []}"#;
+    let loud = r#"{"wall_ns": 1000000, "threads": [{"thread": "main", "core": 0, "cpu_ns": 500000, "run_delay_ns": 500000, "involuntary_switches": 9}], "steal_ns": []}"#;
+    let noise = |trials: &[&str]| {
+        serde_json::from_str(&format!(
+            r#"{{"trials": [{}], "threshold_percent": 2.0, "retries": 0}}"#,
+            trials.join(",")
+        ))
+        .unwrap()
+    };
+    new.cells[0].noise = Some(noise(&[quiet, quiet, quiet, quiet, quiet]));
+    assert!(!compare::between(&base, &new, 5.0, Metric::Fps).changes[0].noisy);
+    new.cells[0].noise = Some(noise(&[quiet, loud, quiet, quiet, quiet]));
+    let c = compare::between(&base, &new, 5.0, Metric::Fps);
+    assert!(c.changes[0].noisy);
+    assert!(c.to_text().contains("† rests on trials"));
+}
+
+/// A change that rounds to zero reads +0.0 %, never -0.0 %, which would read as a loss.
+#[test]
+fn a_tiny_drop_does_not_print_minus_zero() {
+    let r = fixture();
+    let base = one_cell(&r, &[100.0; 5]);
+    let new = one_cell(&r, &[99.99; 5]);
+    let text = compare::between(&base, &new, 5.0, Metric::Fps).to_text();
+    assert!(text.contains("+0.0%") && !text.contains("-0.0%"), "{text}");
+}
+
+/// A trial of 0 FPS is no measurement; a file from before per-trial FPS stands as one trial.
+#[test]
+fn zero_fps_fails_and_old_files_use_the_headline() {
+    let r = fixture();
+    let base = one_cell(&r, &[100.0; 5]);
+    let zero = one_cell(&r, &[0.0, 100.0, 100.0, 100.0, 100.0]);
+    let c = compare::between(&base, &zero, 5.0, Metric::Fps);
+    assert!(c.changes.is_empty() && c.failed.len() == 1, "{c:?}");
+    assert!(c.failed[0].contains("no FPS measured"), "{:?}", c.failed);
+
+    let mut old = one_cell(&r, &[100.0; 5]);
+    let s = old.cells[0].summary.as_mut().unwrap();
+    s.fps_trials.clear();
+    s.fps = 80.0;
+    let c = compare::between(&base, &old, 5.0, Metric::Fps);
+    let ch = &c.changes[0];
+    assert!((ch.change_pct + 20.0).abs() < 1e-9, "{ch:?}");
+    assert_eq!((ch.new_trials, ch.verdict), (1, Verdict::TooFewTrials));
+}
+
+/// The same failure on both sides is listed once.
+#[test]
+fn a_failure_on_both_sides_is_listed_once() {
+    let r = five_trials();
+    let mut broken = r.clone();
+    broken.cells[0].summary = None;
+    broken.cells[0].error = Some("stalled".into());
+    let c = compare::between(&broken, &broken, 5.0, Metric::Fps);
+    assert_eq!(c.failed.len(), 1, "{:?}", c.failed);
+}
+
+/// docs/ci.md names every hand-off method of configs/ci.json and their number, and the trial
+/// minimum the code enforces.
+#[test]
+fn the_ci_docs_match_the_ci_config() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let config: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(root.join("configs/ci.json")).unwrap())
+            .unwrap();
+    let methods: Vec<&str> = config["sync"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m.as_str().unwrap())
+        .collect();
+    let doc = std::fs::read_to_string(root.join("docs/ci.md")).unwrap();
+    for m in &methods {
+        assert!(
+            doc.contains(&format!("`{m}`")),
+            "docs/ci.md does not name `{m}`"
+        );
+    }
+    let words = [
+        "zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine",
+    ];
+    let count = format!("the {} in-house hand-offs", words[methods.len()]);
+    assert!(doc.contains(&count), "docs/ci.md should say {count:?}");
+    assert!(config["trials"].as_u64().unwrap() >= compare::MIN_TRIALS as u64);
+    assert!(doc.contains(&format!("fewer than {} trials", compare::MIN_TRIALS)));
 }

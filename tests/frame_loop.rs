@@ -98,7 +98,7 @@ fn threaded_meshes_are_bit_identical_to_serial_each_frame_once_in_order() {
     }
 }
 
-/// Every depth × consumption × method × mode consumes the serial meshes, each frame once and in
+/// Every depth (1 to MAX_DEPTH) × consumption × method × mode consumes the serial meshes, each frame once and in
 /// order; with `read`, every mode reads the same meshes (equal checksums).
 #[test]
 fn pipelined_meshes_are_bit_identical_to_serial_for_every_depth_and_consumption() {
@@ -131,7 +131,7 @@ fn pipelined_meshes_are_bit_identical_to_serial_for_every_depth_and_consumption(
         );
         for mode in modes() {
             for sync in SyncMethod::of_policy(Policy::Fifo) {
-                for depth in 1..=3 {
+                for depth in 1..=frame_loop::MAX_DEPTH {
                     let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
                     (s.depth, s.consume) = (depth, consume);
                     let (got, run) = collect(&s);
@@ -517,4 +517,52 @@ fn latest_refuses_fifo_methods_depth_helpers_and_spawn() {
     s.threading = Threading::Spawn;
     assert!(refused(s).starts_with("threading: "));
     assert!(base().check().is_ok());
+}
+
+/// Under `latest` the main thread makes progress whichever side is slow: the loop ends within
+/// its budget, and the indices it takes never decrease and do advance. A slow helper makes the
+/// main thread show a mesh again; a slow main thread makes the helper drop meshes.
+#[test]
+fn latest_makes_progress_with_a_slow_helper_and_with_a_slow_main_thread() {
+    let budget = Budget {
+        warmup_frames: 0,
+        min_frames: 10,
+        min_seconds: 0.2,
+        max_seconds: 30.0,
+    };
+    for sync in SyncMethod::of_policy(Policy::Latest) {
+        for mode in modes() {
+            // (helper's grid, main's workload iterations): a 96×96 mesh with neighbour
+            // normals against next to no work, and a 9×9 mesh against a long chain.
+            for (n, iterations, slow) in [(96, 50, "helper"), (9, 300_000, "main")] {
+                let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Neighbors);
+                s.policy = Policy::Latest;
+                s.grid = Grid::new(n, 0.75).unwrap();
+                s.workload_iterations = iterations;
+                let (done, finished) = std::sync::mpsc::channel();
+                std::thread::spawn(move || {
+                    let mut indices = Vec::new();
+                    let run = frame_loop::run(&s, &budget, |k, _| indices.push(k));
+                    let _ = done.send((run.map(|r| r.trial.frames.len()), indices));
+                });
+                let what = format!("{sync} {mode} slow {slow}");
+                let (run, indices) = finished
+                    .recv_timeout(Duration::from_secs(120))
+                    .unwrap_or_else(|_| panic!("{what}: the loop never ended"));
+                let frames = run.unwrap_or_else(|e| panic!("{what}: {e}"));
+                assert!(frames >= 10, "{what}: {frames} frames");
+                assert!(
+                    indices.windows(2).all(|w| w[0] <= w[1]),
+                    "{what}: an index went back"
+                );
+                let distinct = indices.windows(2).filter(|w| w[0] < w[1]).count() + 1;
+                assert!(
+                    distinct >= 2,
+                    "{what}: the main thread took only frame {} in {} frames",
+                    indices[0],
+                    indices.len()
+                );
+            }
+        }
+    }
 }

@@ -129,9 +129,11 @@ fn a_hog_on_the_measured_core_makes_trials_noisy_and_they_are_retried() {
     };
     let cell = &results.cells[0];
     let noise = cell.noise.as_ref().unwrap();
+    // The hog takes about half the core when the machine is idle and more of it is taken when
+    // it is not; the behaviour is that the share crosses the noise threshold, whatever the load.
     assert!(
-        noise.preempted_percent() > 10.0,
-        "a spinning thread on the same core takes a large share: {noise:?}"
+        noise.preempted_percent() > noise.threshold_percent,
+        "a spinning thread on the same core is seen: {noise:?}"
     );
     assert_eq!(noise.noisy_trials(), 2, "every kept trial is noisy");
     assert_eq!(noise.retries, 2, "each was retried once before it was kept");

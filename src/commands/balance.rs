@@ -33,6 +33,12 @@ fn defaults() -> SweepConfig {
 }
 
 pub(super) fn balance(args: BalanceArgs) -> Result<(), CliError> {
+    if args.select.get(Dim::Workload).is_some() {
+        return Err(InputError(
+            "--workload: balance searches the workload itself (see --range); choose cells with the other dimensions".into(),
+        )
+        .into());
+    }
     let mut config = match &args.config {
         Some(path) => SweepConfig::load(path)?,
         None => defaults(),

@@ -32,6 +32,30 @@ pub(super) fn chart(args: ChartArgs) -> Result<(), CliError> {
         .iter()
         .map(|p| load_results(p))
         .collect::<Result<Vec<_>, _>>()?;
+    // A value no cell has would draw empty charts; name what the results do have instead.
+    for &(dim, value) in &select {
+        let cells = || runs.iter().flat_map(|r| &r.cells);
+        if !cells().any(|c| c.key.get(dim) == Some(value)) {
+            let mut present: Vec<String> = Vec::new();
+            for v in cells().filter_map(|c| c.key.get(dim)) {
+                let v = v.to_string();
+                if !present.contains(&v) {
+                    present.push(v);
+                }
+            }
+            let present = if present.is_empty() {
+                "none".to_string()
+            } else {
+                present.join(", ")
+            };
+            return Err(InputError(format!(
+                "--{}: no cell in the results has `{value}`; they have {}: {present}",
+                DimArgs::flag(dim),
+                dim.name()
+            ))
+            .into());
+        }
+    }
     let out = args.out.unwrap_or_else(|| results_dir(&args.results[0]));
     let options = ChartOptions {
         formats: args.format,

@@ -29,6 +29,16 @@ pub(super) fn compare(args: CompareArgs) -> Result<(), CliError> {
             .into())
         }
     };
+    if let Some(why) = comparison.nothing_compared() {
+        return Err(InputError(why).into());
+    }
+    if args.strict && !comparison.warnings.is_empty() {
+        return Err(InputError(format!(
+            "compare --strict: the runs are not like for like: {}",
+            comparison.warnings.join("; ")
+        ))
+        .into());
+    }
     match args.format {
         CompareFormat::Text => print!("{}", comparison.to_text()),
         CompareFormat::Markdown => print!("{}", comparison.to_markdown()),

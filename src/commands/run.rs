@@ -41,7 +41,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
         trials: args.trials,
         min_frames: args.frames,
         min_seconds: args.seconds,
-        max_seconds: (args.seconds * 10.0).max(10.0),
+        max_seconds: args.max_seconds.unwrap_or((args.seconds * 10.0).max(10.0)),
         waves_file: args.waves,
         timeout_seconds: args.timeout,
         cores: args.cores,
@@ -62,6 +62,21 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
         report::write_all(dir, &results).map_err(anyhow::Error::from)?;
     }
     print_cells(&results);
+    // The time cap ends a slow trial before --frames; the numbers stand, but say so.
+    for cell in &results.cells {
+        let Some(s) = &cell.summary else { continue };
+        let asked = args.frames * u64::from(args.trials);
+        if (s.frames as u64) < asked {
+            eprintln!(
+                "oceanbench: {}: {} frames over {} trial(s), fewer than --frames {} each: a trial stops after --max-seconds {}; raise it for the full count",
+                cell.key.label(),
+                s.frames,
+                args.trials,
+                args.frames,
+                results.config.max_seconds
+            );
+        }
+    }
     if results.finished.is_none() {
         return Err(CliError::Interrupted(format!(
             "interrupted; {} finished cell(s) printed above",

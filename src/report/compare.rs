@@ -5,11 +5,13 @@
 //! Each comparison is the change of the mean trial FPS, with a 95% percentile interval from a
 //! seeded bootstrap of the ratio of means (criterion's approach). A change counts only when its
 //! whole interval clears the threshold, so two noisy runs of the same code compare as "within
-//! noise" rather than as a coin flip.
+//! noise" rather than as a coin flip. An interval that excludes zero without clearing the
+//! threshold is said to be real but small; a side with fewer than [`MIN_TRIALS`] trials gets no
+//! verdict at all, since a bootstrap of three values says little about the interval.
 
 use crate::cell::{Dim, Value};
 use crate::report::shift::{self, BalanceShift};
-use crate::results::{Cell, CellKey, Results};
+use crate::results::{Cell, CellKey, Results, PLACEMENT_CHANGE_RATIO};
 use crate::stats;
 use itertools::Itertools;
 use serde::{Deserialize, Serialize};
@@ -70,6 +72,14 @@ impl Metric {
 /// The threshold the CLI uses when none is given, in percent.
 pub const DEFAULT_THRESHOLD_PCT: f64 = 5.0;
 
+/// The fewest trials on each side for a verdict that can fail CI: a bootstrap interval from fewer
+/// is too narrow to trust (three trials give only ten distinct resampled means).
+pub const MIN_TRIALS: usize = 5;
+
+/// Relative difference of a workload level's microseconds between two runs above which the
+/// levels are not the same game work: the calibration drift the sweep itself warns about.
+pub const LEVEL_MISMATCH: f64 = crate::calibrate::DRIFT_WARNING;
+
 /// Resamples per bootstrap: enough for stable 2.5%/97.5% percentiles, cheap for a few hundred cells.
 const RESAMPLES: usize = 10_000;
 
@@ -82,9 +92,17 @@ crate::named! {
         /// The whole interval lies below -threshold.
         #[strum(message = "regressed")]
         Regressed,
-        /// The interval reaches into [-threshold, +threshold].
+        /// The interval excludes zero but does not clear the threshold: a real change, too
+        /// small to count.
+        #[strum(message = "below threshold")]
+        BelowThreshold,
+        /// The interval includes zero.
         #[strum(message = "within noise")]
         WithinNoise,
+        /// A side has fewer than [`MIN_TRIALS`] trials: the point estimate only, never a
+        /// failure.
+        #[strum(message = "too few trials")]
+        TooFewTrials,
     }
 }
 
@@ -115,6 +133,12 @@ pub struct Change {
     pub ci_high_pct: f64,
     /// A side had a single trial: the interval is the point estimate alone.
     pub single_trial: bool,
+    /// Trials on the base (or baseline) side.
+    #[serde(default)]
+    pub base_trials: usize,
+    /// Trials on the new (or alternative) side.
+    #[serde(default)]
+    pub new_trials: usize,
     /// A side kept trials whose run delay or steal exceeded its noise threshold.
     #[serde(default)]
     pub noisy: bool,
@@ -146,6 +170,10 @@ pub struct Comparison {
     /// Between two runs with balance searches: how each balance point moved.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub balance: Vec<BalanceShift>,
+    /// Between two runs: why their cells may not be like for like (another machine, another
+    /// placement of the two cores, workload levels of other microseconds).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// Why a within-run comparison could not be made.
@@ -205,6 +233,58 @@ pub fn between(base: &Results, new: &Results, threshold_pct: f64, metric: Metric
     }
     out.fill(pairs);
     out.balance = shift::between(base, new);
+    out.warnings = mismatches(base, new);
+    out
+}
+
+/// Why two runs' cells may not be like for like: each line names both values. The CPU model and
+/// core count must agree; the median cross-core round trips must be within
+/// [`PLACEMENT_CHANGE_RATIO`] of each other (the two cores sit in the same placement); and each
+/// workload level both runs have must come to microseconds within [`LEVEL_MISMATCH`].
+pub fn mismatches(base: &Results, new: &Results) -> Vec<String> {
+    let mut out = Vec::new();
+    let (a, b) = (&base.machine, &new.machine);
+    if a.cpu_model != b.cpu_model {
+        out.push(format!(
+            "different CPUs: `{}` against `{}`",
+            a.cpu_model, b.cpu_model
+        ));
+    }
+    if a.logical_cores != b.logical_cores {
+        out.push(format!(
+            "different core counts: {} against {}",
+            a.logical_cores, b.logical_cores
+        ));
+    }
+    let median_trip = |r: &Results| {
+        let v: Vec<f64> = r.round_trip.all().map(|t| t.median_ns).collect();
+        (!v.is_empty()).then(|| stats::median(&v))
+    };
+    if let (Some(x), Some(y)) = (median_trip(base), median_trip(new)) {
+        if x.max(y) > x.min(y) * PLACEMENT_CHANGE_RATIO {
+            out.push(format!(
+                "different core placement: cross-core round trip {x:.0} ns against {y:.0} ns (over {PLACEMENT_CHANGE_RATIO}x apart)"
+            ));
+        }
+    }
+    for l in &base.calibration.levels {
+        let Some(m) = new
+            .calibration
+            .levels
+            .iter()
+            .find(|m| m.workload == l.workload)
+        else {
+            continue;
+        };
+        let (x, y) = (l.micros, m.micros);
+        if (x - y).abs() > LEVEL_MISMATCH * x.max(y) {
+            out.push(format!(
+                "workload {} is other game work: {x:.0} us against {y:.0} us (over {:.0}% apart)",
+                l.workload,
+                LEVEL_MISMATCH * 100.0
+            ));
+        }
+    }
     out
 }
 
@@ -340,6 +420,7 @@ impl Comparison {
             only_in_new: Vec::new(),
             failed: Vec::new(),
             balance: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 
@@ -371,7 +452,9 @@ impl Comparison {
             let rank = |c: &Change| match c.verdict {
                 Verdict::Regressed => (0, c.change_pct),
                 Verdict::Improved => (1, -c.change_pct),
-                Verdict::WithinNoise => (2, 0.0),
+                Verdict::BelowThreshold => (2, 0.0),
+                Verdict::WithinNoise => (3, 0.0),
+                Verdict::TooFewTrials => (4, 0.0),
             };
             let (ra, ka) = rank(a);
             let (rb, kb) = rank(b);
@@ -389,15 +472,44 @@ impl Comparison {
         self.changes.iter().filter(|c| c.verdict == verdict).count()
     }
 
-    /// "N improved, M regressed, K within noise (threshold T%)".
+    /// "N improved, M regressed, K within noise (threshold T%)", then the below-threshold and
+    /// too-few-trials counts when there are any.
     pub fn summary_line(&self) -> String {
-        format!(
-            "{} improved, {} regressed, {} within noise (threshold {}%)",
+        let mut line = format!(
+            "{} improved, {} regressed, {} within noise",
             self.count(Verdict::Improved),
             self.count(Verdict::Regressed),
             self.count(Verdict::WithinNoise),
-            self.threshold_pct.abs()
-        )
+        );
+        for v in [Verdict::BelowThreshold, Verdict::TooFewTrials] {
+            let n = self.count(v);
+            if n > 0 {
+                let _ = write!(line, ", {n} {}", v.words());
+            }
+        }
+        let _ = write!(line, " (threshold {}%)", self.threshold_pct.abs());
+        line
+    }
+
+    /// Why the comparison compared nothing, when it did not: a verdict of "nothing regressed"
+    /// over no pairs would pass CI vacuously.
+    pub fn nothing_compared(&self) -> Option<String> {
+        if !self.changes.is_empty() {
+            return None;
+        }
+        let base = self.only_in_base.len();
+        let new = self.only_in_new.len();
+        Some(if self.failed.is_empty() {
+            format!(
+                "compare: no cell matched between the two runs ({base} only in the first, {new} only in the second): they measured different cells"
+            )
+        } else {
+            format!(
+                "compare: no pair of cells could be compared ({} failed or unmeasured, e.g. {})",
+                self.failed.len(),
+                self.failed[0]
+            )
+        })
     }
 
     fn headers(&self) -> [String; 2] {
@@ -407,6 +519,22 @@ impl Comparison {
         } else {
             [format!("Base {unit}"), format!("New {unit}")]
         }
+    }
+
+    /// The note under a table with too-few-trials rows: why they have no verdict.
+    fn too_few_note(&self) -> Option<String> {
+        let few: Vec<&Change> = self
+            .changes
+            .iter()
+            .filter(|c| c.verdict == Verdict::TooFewTrials)
+            .collect();
+        let first = few.first()?;
+        Some(format!(
+            "too few trials: {} pair(s) with fewer than {MIN_TRIALS} trials on a side (e.g. n = {} vs {}) show the point estimate and its interval but get no verdict and never fail",
+            few.len(),
+            first.base_trials,
+            first.new_trials
+        ))
     }
 
     /// The non-empty lists of cells that were not compared, each with its title.
@@ -464,6 +592,9 @@ impl Comparison {
     pub fn to_text(&self) -> String {
         let mut out = String::new();
         let _ = writeln!(out, "{}: {}", self.title(), self.summary_line());
+        for w in &self.warnings {
+            let _ = writeln!(out, "warning: {w}");
+        }
         let [base, new] = self.headers();
         let header = [
             "Verdict".to_string(),
@@ -507,6 +638,9 @@ impl Comparison {
                 "* one trial on a side: no interval, point estimate only"
             );
         }
+        if let Some(note) = self.too_few_note() {
+            let _ = writeln!(out, "{note}");
+        }
         if self.changes.iter().any(|c| c.noisy) {
             let _ = writeln!(out, "{NOISY_NOTE}");
         }
@@ -529,10 +663,15 @@ impl Comparison {
     pub fn to_markdown(&self) -> String {
         let mut out = String::new();
         let _ = writeln!(out, "**{}**: {}\n", self.title(), self.summary_line());
-        let (notable, quiet): (Vec<&Change>, Vec<&Change>) = self
-            .changes
-            .iter()
-            .partition(|c| c.verdict != Verdict::WithinNoise);
+        for w in &self.warnings {
+            let _ = writeln!(out, "**Warning**: {w}\n");
+        }
+        let (notable, quiet): (Vec<&Change>, Vec<&Change>) = self.changes.iter().partition(|c| {
+            matches!(
+                c.verdict,
+                Verdict::Improved | Verdict::Regressed | Verdict::BelowThreshold
+            )
+        });
         let [base, new] = self.headers();
         let table = |out: &mut String, changes: &[&Change]| {
             let _ = writeln!(
@@ -551,7 +690,7 @@ impl Comparison {
         if !quiet.is_empty() {
             let _ = writeln!(
                 out,
-                "<details><summary>{} within noise</summary>\n",
+                "<details><summary>{} within noise or with too few trials</summary>\n",
                 quiet.len()
             );
             table(&mut out, &quiet);
@@ -562,6 +701,9 @@ impl Comparison {
                 out,
                 "\\* one trial on a side: no interval, point estimate only\n"
             );
+        }
+        if let Some(note) = self.too_few_note() {
+            let _ = writeln!(out, "{note}\n");
         }
         if self.changes.iter().any(|c| c.noisy) {
             let _ = writeln!(out, "{NOISY_NOTE}\n");
@@ -624,10 +766,14 @@ fn change(
     } else {
         (Verdict::Regressed, Verdict::Improved)
     };
-    let verdict = if ci_low_pct > threshold {
+    let verdict = if base.len() < MIN_TRIALS || new.len() < MIN_TRIALS {
+        Verdict::TooFewTrials
+    } else if ci_low_pct > threshold {
         up
     } else if ci_high_pct < -threshold {
         down
+    } else if ci_low_pct > 0.0 || ci_high_pct < 0.0 {
+        Verdict::BelowThreshold
     } else {
         Verdict::WithinNoise
     };
@@ -640,6 +786,8 @@ fn change(
         ci_low_pct,
         ci_high_pct,
         single_trial,
+        base_trials: base.len(),
+        new_trials: new.len(),
         noisy: false,
         verdict,
     }

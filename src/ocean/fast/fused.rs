@@ -18,9 +18,9 @@
 //! raised to the wave's power joins the wave's constants once per row. The results differ
 //! from the per-wave loop's by rounding only.
 
-use super::math::powi;
 use super::phase::{Power, WaveConsts};
 use super::simd::{by_exp, ForIsa, Step};
+use super::vector::powi;
 use super::vector::Real;
 use super::vector::Vector;
 use crate::ocean::waves::MAX_WAVES;

@@ -2,8 +2,6 @@
 //! reduced ranges), written lane by lane with bit operations so the loops that call them
 //! vectorise; they replace `powf` for steepness that is not a half-integer.
 
-use super::vector::Real;
-
 /// Fused multiply-add when the caller's target has FMA, else separate operations (a software
 /// `fma` call would be far slower than the two roundings it saves).
 #[inline(always)]
@@ -13,25 +11,6 @@ pub fn fma<const F: bool>(a: f32, b: f32, c: f32) -> f32 {
     } else {
         a * b + c
     }
-}
-
-/// x^E for a compile-time E, by repeated squaring (fully unrolled).
-#[inline(always)]
-pub fn powi<R: Real, const E: u32>(x: R) -> R {
-    let mut r: Option<R> = None;
-    let mut b = x;
-    let mut e = E;
-    while e > 0 {
-        if e & 1 == 1 {
-            r = Some(match r {
-                Some(r) => r * b,
-                None => b,
-            });
-        }
-        b = b * b;
-        e >>= 1;
-    }
-    r.unwrap_or(R::splat(1.0))
 }
 
 /// ln x for normal x > 0.

@@ -8,8 +8,9 @@
 //! vectorises; they cover every exponent and are the baseline the fused loop is measured
 //! against.
 
-use super::math::{fma, pow_abs, powi};
+use super::math::{fma, pow_abs};
 use super::phase::{Power, Tables, WaveConsts};
+use super::vector::powi;
 #[cfg(target_arch = "x86_64")]
 use super::vector::{Avx2, Avx512};
 use super::vector::{Lane, Portable, Vector};

@@ -11,6 +11,25 @@
 use super::math::fma;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
+/// x^E for a compile-time E, by repeated squaring (fully unrolled).
+#[inline(always)]
+pub fn powi<R: Real, const E: u32>(x: R) -> R {
+    let mut r: Option<R> = None;
+    let mut b = x;
+    let mut e = E;
+    while e > 0 {
+        if e & 1 == 1 {
+            r = Some(match r {
+                Some(r) => r * b,
+                None => b,
+            });
+        }
+        b = b * b;
+        e >>= 1;
+    }
+    r.unwrap_or(R::splat(1.0))
+}
+
 /// Lane-wise f32 arithmetic: `+ − × ÷` and negation are IEEE, single rounding each.
 pub trait Real:
     Copy

@@ -139,6 +139,7 @@ pub(super) fn balance(runs: &Runs) -> Result<Chart, NothingToDraw> {
         },
         body: Body::Traces(TracePlot {
             panels,
+            rows: 1,
             x_desc: "main-thread workload W ÷ helper step S (log scale)".into(),
             y_desc: "DP ÷ serial FPS (×)".into(),
             log_x: true,

@@ -246,20 +246,16 @@ pub(super) fn relative(runs: &Runs) -> Result<Chart, NothingToDraw> {
 /// Each hand-off method's FPS in UP and DP, one panel per size at the highest workload.
 pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
     let v = runs.variant()?;
-    let syncs = runs.syncs();
+    let syncs = runs.syncs(&v);
     let workload = *runs
         .workloads()
         .last()
         .ok_or(NothingToDraw::new("no workloads in the results"))?;
     let modes = [Mode::Up, Mode::Dp];
     let mut missing = Missing::default();
-    let mut legend = vec![];
-    for (r, run) in runs.runs.iter().enumerate() {
-        legend.extend(mode_legend(runs, r, &modes));
-        legend.push(Legend::line(runs.series(run, "serial"), shade(NO_GAIN, r)));
-    }
     let mut panels = vec![];
     let mut cpu_panels = vec![];
+    let mut serial_runs = vec![false; runs.runs.len()];
     for size in runs.sizes() {
         let mut bars = vec![];
         let mut cpu_bars = vec![];
@@ -283,12 +279,17 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
                     }
                 }
             }
+            // A run without serial cells draws no dashed line, and its legend and subtitle do not
+            // promise one.
             let serial = v.key(size, workload, Mode::Serial, v.sync());
-            if let Some(s) = runs.summary(run, &serial, &mut missing) {
-                refs.push(RefLine {
-                    value: s.fps,
-                    color: shade(NO_GAIN, r),
-                });
+            if run.has_serial() {
+                if let Some(s) = runs.summary(run, &serial, &mut missing) {
+                    serial_runs[r] = true;
+                    refs.push(RefLine {
+                        value: s.fps,
+                        color: shade(NO_GAIN, r),
+                    });
+                }
             }
         }
         let groups: Vec<String> = syncs.iter().map(|s| s.name().to_string()).collect();
@@ -310,12 +311,24 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
             });
         }
     }
+    let mut legend = vec![];
+    for (r, run) in runs.runs.iter().enumerate() {
+        legend.extend(mode_legend(runs, r, &modes));
+        if serial_runs[r] {
+            legend.push(Legend::line(runs.series(run, "serial"), shade(NO_GAIN, r)));
+        }
+    }
+    let dashed = if serial_runs.contains(&true) {
+        "Dashed line: serial FPS. "
+    } else {
+        ""
+    };
     let slots = runs.runs.len() * modes.len();
     let mut chart = bar_chart(
         runs,
         format!("Hand-off methods: FPS in UP and DP at workload {workload}, and the CPU their waits burn"),
         format!(
-            "Dashed line: serial FPS. Error bars: slowest and fastest trial. Lower row: CPU time per frame the main thread and the helper spent waiting (a method that sleeps burns none). {}.",
+            "{dashed}Error bars: slowest and fastest trial. Lower row: CPU time per frame the main thread and the helper spent waiting (a method that sleeps burns none). {}.",
             v.describe(false)
         ),
         legend,

@@ -2,41 +2,13 @@
 
 use super::bars::shade;
 use super::render::{Body, Chart, Frame, Legend, LinePanel, LinePlot, Series, StackPlot, StackRow};
-use super::{mode_name, short_mode, Missing, NothingToDraw, Runs, CHART_SIZE};
+use super::{mode_name, short_mode, sync_color, Missing, NothingToDraw, Runs, CHART_SIZE};
 use crate::frame_loop::Mode;
 use crate::measure::{Summary, QUANTILES};
 use crate::sync::SyncMethod;
 use plotters::style::RGBColor;
 
 const SERIAL: RGBColor = RGBColor(0x70, 0x70, 0x70);
-
-/// Method colours, in the methods' declaration order: the Okabe-Ito palette first (the paper's
-/// methods), then further colours distinct from it.
-const PALETTE: [RGBColor; 16] = [
-    RGBColor(0x00, 0x72, 0xb2),
-    RGBColor(0xd5, 0x5e, 0x00),
-    RGBColor(0x00, 0x9e, 0x73),
-    RGBColor(0xcc, 0x79, 0xa7),
-    RGBColor(0xe6, 0x9f, 0x00),
-    RGBColor(0x56, 0xb4, 0xe9),
-    RGBColor(0x11, 0x11, 0x11),
-    RGBColor(0x88, 0x22, 0x55),
-    RGBColor(0x44, 0xaa, 0x99),
-    RGBColor(0x99, 0x99, 0x33),
-    RGBColor(0x33, 0x22, 0x88),
-    RGBColor(0xaa, 0x44, 0x99),
-    RGBColor(0x66, 0x33, 0x00),
-    RGBColor(0x11, 0x77, 0x33),
-    RGBColor(0xdd, 0xcc, 0x77),
-    RGBColor(0x88, 0xcc, 0xee),
-];
-
-/// A colour per hand-off method, fixed so a method looks the same in every chart.
-fn sync_color(sync: SyncMethod) -> RGBColor {
-    use strum::VariantArray;
-    let at = SyncMethod::VARIANTS.iter().position(|&m| m == sync);
-    PALETTE[at.unwrap_or(0) % PALETTE.len()]
-}
 
 /// The summary's frame-time points: mean, then median, p99, slowest-1% mean and max.
 fn points(s: &Summary) -> Vec<Option<f64>> {
@@ -77,18 +49,15 @@ pub(super) fn frame_times(
 ) -> Result<Chart, NothingToDraw> {
     let (size, workload) = focus.ok_or(NothingToDraw::new("no measured cell in the results"))?;
     let v = runs.variant()?;
-    let syncs = runs.syncs();
+    let syncs = runs.syncs(&v);
     let mut missing = Missing::default();
-    let mut legend = vec![];
-    for (r, run) in runs.runs.iter().enumerate() {
-        for &s in &syncs {
-            legend.push(Legend::boxed(
-                runs.series(run, s.name()),
-                shade(sync_color(s), r),
-            ));
+    // The legend names only the series some panel draws.
+    let mut legend: Vec<Legend> = vec![];
+    let name = |legend: &mut Vec<Legend>, series: String, color| {
+        if !legend.iter().any(|l| l.name == series) {
+            legend.push(Legend::boxed(series, color));
         }
-        legend.push(Legend::boxed(runs.series(run, "serial"), shade(SERIAL, r)));
-    }
+    };
     // The full distribution when every cell recorded it; older files give the five points.
     let all_have_quantiles = runs.runs.iter().all(|run| {
         run.results
@@ -113,18 +82,24 @@ pub(super) fn frame_times(
             for &sync in &syncs {
                 if let Some(s) = runs.summary(run, &v.key(size, workload, mode, sync), &mut missing)
                 {
+                    let color = shade(sync_color(sync), r);
+                    name(&mut legend, runs.series(run, sync.name()), color);
                     series.push(Series {
-                        color: shade(sync_color(sync), r),
+                        color,
                         values: points(s),
                     });
                 }
             }
             let serial = v.key(size, workload, Mode::Serial, v.sync());
-            if let Some(s) = runs.summary(run, &serial, &mut missing) {
-                series.push(Series {
-                    color: shade(SERIAL, r),
-                    values: points(s),
-                });
+            if run.has_serial() {
+                if let Some(s) = runs.summary(run, &serial, &mut missing) {
+                    let color = shade(SERIAL, r);
+                    name(&mut legend, runs.series(run, "serial"), color);
+                    series.push(Series {
+                        color,
+                        values: points(s),
+                    });
+                }
             }
         }
         any |= !series.is_empty();
@@ -192,7 +167,7 @@ pub(super) fn breakdown(
     const STEP: usize = 3;
     let (size, workload) = focus.ok_or(NothingToDraw::new("no measured cell in the results"))?;
     let v = runs.variant()?;
-    let syncs = runs.syncs();
+    let syncs = runs.syncs(&v);
     let modes = runs.modes();
     let mut missing = Missing::default();
     let mut rows = vec![];

@@ -1,22 +1,15 @@
-//! What run-ahead buys and costs: FPS against the median input-to-consume latency, one trace per
-//! mode, method and consumption, its points the depths.
+//! What run-ahead buys and costs: FPS against the median input-to-consume latency, one panel
+//! per mode and size, one trace per method and consumption, its points the depths.
 
 use super::bars::shade;
 use super::render::{Body, Chart, Frame, Legend, Trace, TracePanel, TracePlot};
-use super::{mode_name, Missing, NothingToDraw, Runs, CHART_SIZE};
+use super::{mode_name, sync_color, Missing, NothingToDraw, Runs, CHART_SIZE};
 use crate::frame_loop::{Consume, Mode};
-use plotters::style::RGBColor;
 use strum::VariantArray;
 
-/// One colour per mode; methods and consumptions get darker shades of it.
-fn mode_color(mode: Mode) -> RGBColor {
-    match mode {
-        Mode::Up => RGBColor(0xe6, 0x9f, 0x00),
-        _ => RGBColor(0x00, 0x72, 0xb2),
-    }
-}
-
-/// FPS against input-to-consume latency, one panel per size at the focus workload.
+/// FPS against input-to-consume latency at the focus workload: UP panels in the top row, DP
+/// in the bottom one, a column per size. A method keeps its colour from the other charts, and
+/// its consumptions are shades of it, so one legend entry names the same series in every panel.
 pub(super) fn latency_vs_fps(
     runs: &Runs,
     focus: Option<(usize, usize)>,
@@ -25,15 +18,15 @@ pub(super) fn latency_vs_fps(
     let v = runs.variant()?;
     let depths = runs.counts(crate::cell::Dim::Depth);
     let mut missing = Missing::default();
-    let mut legend = Vec::new();
+    let mut legend: Vec<Legend> = Vec::new();
     let mut panels = Vec::new();
-    for size in runs.sizes() {
-        let mut traces = Vec::new();
-        for (r, run) in runs.runs.iter().enumerate() {
-            let mut shade_index = r;
-            for mode in [Mode::Up, Mode::Dp] {
-                for sync in runs.syncs() {
-                    for &consume in Consume::VARIANTS {
+    let modes = [Mode::Up, Mode::Dp];
+    for mode in modes {
+        for size in runs.sizes() {
+            let mut traces = Vec::new();
+            for (r, run) in runs.runs.iter().enumerate() {
+                for sync in runs.syncs(&v) {
+                    for (c, &consume) in Consume::VARIANTS.iter().enumerate() {
                         let points: Vec<(f64, f64, String)> = depths
                             .iter()
                             .filter_map(|&d| {
@@ -51,27 +44,29 @@ pub(super) fn latency_vs_fps(
                         if points.is_empty() {
                             continue;
                         }
-                        let color = shade(mode_color(mode), shade_index);
-                        shade_index += 1;
-                        let name = format!("{} {sync} {consume}", mode_name(mode));
-                        if !legend
-                            .iter()
-                            .any(|l: &Legend| l.name == runs.series(run, &name))
-                        {
-                            legend.push(Legend::boxed(runs.series(run, &name), color));
+                        let color = shade(sync_color(sync), c + r);
+                        let name = runs.series(run, &format!("{sync} {consume}"));
+                        if !legend.iter().any(|l| l.name == name) {
+                            legend.push(Legend::boxed(name, color));
                         }
                         traces.push(Trace { color, points });
                     }
                 }
             }
-        }
-        if traces.is_empty() {
-            missing.add(format!("{size}×{size} w{workload}: no cell with a latency"));
-        } else {
-            panels.push(TracePanel {
-                caption: format!("{size}×{size} mesh, workload {workload}"),
-                traces,
-            });
+            if traces.is_empty() {
+                missing.add(format!(
+                    "{size}×{size} w{workload} {}: no cell with a latency",
+                    mode_name(mode)
+                ));
+            } else {
+                panels.push(TracePanel {
+                    caption: format!(
+                        "{}, {size}×{size} mesh, workload {workload}",
+                        mode_name(mode)
+                    ),
+                    traces,
+                });
+            }
         }
     }
     if panels.is_empty() {
@@ -79,11 +74,19 @@ pub(super) fn latency_vs_fps(
             "no threaded cell records latency (results from before run-ahead depth)".into(),
         ));
     }
+    let rows = modes
+        .iter()
+        .filter(|m| panels.iter().any(|p| p.caption.starts_with(mode_name(**m))))
+        .count();
     let mut lines = runs.machine_lines();
     lines.push(format!(
-        "Each line joins one mode, method and consumption over run-ahead depths d1, d2, ...: up is more FPS, right is older meshes. {}.",
+        "Each line joins one method and consumption over run-ahead depths d1, d2, ...: up is more FPS, right is older meshes (input-to-consume: the helper starts a mesh → the main thread takes it); a label hidden by another names the same depth. {}.",
         v.describe(false)
     ));
+    let mut size = CHART_SIZE;
+    if rows > 1 {
+        size.1 = CHART_SIZE.1 * 3 / 2;
+    }
     Ok(Chart {
         frame: Frame {
             title: "Run-ahead: frames per second against input-to-consume latency".into(),
@@ -93,13 +96,12 @@ pub(super) fn latency_vs_fps(
         },
         body: Body::Traces(TracePlot {
             panels,
-            x_desc:
-                "median input-to-consume latency (ms): helper starts a mesh → main thread takes it"
-                    .into(),
+            rows,
+            x_desc: "input-to-consume latency, median (ms)".into(),
             y_desc: "frames per second (FPS)".into(),
             log_x: false,
             y_format: |v| format!("{v:.0}"),
         }),
-        size: CHART_SIZE,
+        size,
     })
 }

@@ -16,6 +16,7 @@ use crate::measure::Summary;
 use crate::results::{CellKey, Results};
 use crate::sync::SyncMethod;
 use itertools::Itertools;
+use plotters::style::RGBColor;
 use std::path::{Path, PathBuf};
 use strum::VariantArray;
 
@@ -177,10 +178,45 @@ pub fn draw_with(
     Ok(drawn)
 }
 
+/// Method colours, in the methods' declaration order: the Okabe-Ito palette first (the paper's
+/// methods), then further colours distinct from it.
+const PALETTE: [RGBColor; 16] = [
+    RGBColor(0x00, 0x72, 0xb2),
+    RGBColor(0xd5, 0x5e, 0x00),
+    RGBColor(0x00, 0x9e, 0x73),
+    RGBColor(0xcc, 0x79, 0xa7),
+    RGBColor(0xe6, 0x9f, 0x00),
+    RGBColor(0x56, 0xb4, 0xe9),
+    RGBColor(0x11, 0x11, 0x11),
+    RGBColor(0x88, 0x22, 0x55),
+    RGBColor(0x44, 0xaa, 0x99),
+    RGBColor(0x99, 0x99, 0x33),
+    RGBColor(0x33, 0x22, 0x88),
+    RGBColor(0xaa, 0x44, 0x99),
+    RGBColor(0x66, 0x33, 0x00),
+    RGBColor(0x11, 0x77, 0x33),
+    RGBColor(0xdd, 0xcc, 0x77),
+    RGBColor(0x88, 0xcc, 0xee),
+];
+
+/// A colour per hand-off method, fixed so a method looks the same in every chart.
+pub(super) fn sync_color(sync: SyncMethod) -> RGBColor {
+    let at = SyncMethod::VARIANTS.iter().position(|&m| m == sync);
+    PALETTE[at.unwrap_or(0) % PALETTE.len()]
+}
+
 /// One results file and the name its series carry.
 struct Run<'a> {
     label: String,
     results: &'a Results,
+}
+
+impl Run<'_> {
+    /// Whether the run's config has serial cells at all (charts draw no serial reference and
+    /// report none missing for a run that never meant to measure one).
+    fn has_serial(&self) -> bool {
+        self.results.config.axes.modes.contains(&Mode::Serial)
+    }
 }
 
 /// The results being charted, with what they have in common.
@@ -419,10 +455,13 @@ impl<'a> Runs<'a> {
             .collect()
     }
 
-    fn syncs(&self) -> Vec<SyncMethod> {
+    /// The hand-off methods the runs measured or listed that can hand over under the variant's
+    /// policy (a `latest`-only method has no cell beside `fifo` ones, so no empty slot for it).
+    fn syncs(&self, v: &Variant) -> Vec<SyncMethod> {
         SyncMethod::VARIANTS
             .iter()
             .copied()
+            .filter(|&s| v.template.policy.is_none_or(|p| s.serves(p)))
             .filter(|&s| {
                 self.keys().any(|k| k.sync == Some(s))
                     || self

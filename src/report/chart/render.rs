@@ -156,6 +156,8 @@ pub(super) struct TracePanel {
 /// points' range.
 pub(super) struct TracePlot {
     pub panels: Vec<TracePanel>,
+    /// Rows the panels are laid out in, filled left to right.
+    pub rows: usize,
     pub x_desc: String,
     pub y_desc: String,
     pub log_x: bool,
@@ -403,11 +405,23 @@ fn bar_panel<DB: DrawingBackend>(
     let mut chart = ChartBuilder::on(area)
         .caption(&panel.caption, font(19.0))
         .margin(10)
-        .x_label_area_size(58)
+        .x_label_area_size(64)
         .y_label_area_size(88)
         .build_cartesian_2d(categories(-0.5..n as f64 - 0.5, n), 0.0..y_max)
         .map_err(err)?;
-    let x_fmt = |v: &f64| label_at(&panel.groups, *v);
+    let group_px = chart.plotting_area().dim_in_pixel().0 as f64 / n as f64;
+    let fits = panel.groups.iter().try_fold(true, |fits, g| {
+        let w = area.estimate_text_size(g, &font(15.0)).map_err(err)?.0 as f64;
+        Ok::<_, DrawError>(fits && w < group_px * 0.92)
+    })?;
+    // Group names too wide for their slot are drawn by hand below, broken after a hyphen.
+    let x_fmt = |v: &f64| {
+        if fits {
+            label_at(&panel.groups, *v)
+        } else {
+            String::new()
+        }
+    };
     let y_fmt = |v: &f64| (plot.format)(*v);
     chart
         .configure_mesh()
@@ -422,6 +436,9 @@ fn bar_panel<DB: DrawingBackend>(
         .max_light_lines(1)
         .draw()
         .map_err(err)?;
+    if !fits {
+        group_labels(area, &chart, &panel.groups, group_px)?;
+    }
     let slot = 0.8 / plot.slots.max(1) as f64;
     let plot_width = chart.plotting_area().dim_in_pixel().0 as f64;
     let slot_px = plot_width * slot / n as f64;
@@ -477,21 +494,100 @@ fn bar_panel<DB: DrawingBackend>(
     Ok(())
 }
 
-/// Tick values 1, 2, 3, 5 × 10^k inside `lo..hi`: plotters' own log ticks are whole decades only,
-/// which leaves a range shorter than a decade with one label or none.
-fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
-    let mut ticks = Vec::new();
-    let mut decade = 10f64.powf(lo.log10().floor());
-    while decade <= hi {
-        for m in [1.0, 2.0, 3.0, 5.0] {
-            let v = m * decade;
-            if (lo..=hi).contains(&v) {
-                ticks.push(v);
-            }
+/// Draws each group's name centred under its slot, in two lines when it is too wide for one
+/// (broken after its first hyphen, else in the middle), in a smaller font.
+fn group_labels<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    chart: &ChartContext<'_, DB, Cartesian2d<Categories, RangedCoordf64>>,
+    groups: &[String],
+    group_px: f64,
+) -> Result<(), DrawError> {
+    let style = font(13.0).pos(Pos::new(HPos::Center, VPos::Top));
+    let base = area.get_base_pixel();
+    for (i, g) in groups.iter().enumerate() {
+        let (x, y) = chart.backend_coord(&(i as f64, 0.0));
+        let width = area.estimate_text_size(g, &style).map_err(err)?.0 as f64;
+        let lines: Vec<String> = if width < group_px * 0.95 {
+            vec![g.clone()]
+        } else {
+            let at = g.find('-').map_or(g.len() / 2, |h| h + 1);
+            vec![g[..at].to_string(), g[at..].to_string()]
+        };
+        for (k, line) in lines.into_iter().enumerate() {
+            area.draw(&Text::new(
+                line,
+                (x - base.0, y - base.1 + 6 + 15 * k as i32),
+                style.clone(),
+            ))
+            .map_err(err)?;
         }
-        decade *= 10.0;
+    }
+    Ok(())
+}
+
+/// Ticks a vertical log axis shows at least: its labels stack, so it can afford many.
+const LOG_Y_TICKS: usize = 6;
+
+/// Ticks a horizontal log axis shows at least; its labels sit side by side, so the sparsest
+/// set that gives these few is kept.
+const LOG_X_TICKS: usize = 4;
+
+/// Mantissas of log-axis ticks, sparsest first: plotters' own log ticks are whole decades
+/// only, which leaves a range shorter than a decade with one label or none.
+const LOG_MANTISSAS: [&[f64]; 4] = [
+    &[1.0, 2.0, 5.0],
+    &[1.0, 2.0, 3.0, 5.0],
+    &[1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0],
+    &[
+        1.0, 1.2, 1.4, 1.6, 1.8, 2.0, 2.5, 3.0, 3.5, 4.0, 4.5, 5.0, 6.0, 7.0, 8.0, 9.0,
+    ],
+];
+
+/// Log-axis tick values inside `lo..hi`: the sparsest mantissa set that gives at least
+/// `at_least` ticks (the densest when none does). Each value is the decimal it reads as
+/// (0.3, not 3 × 0.1 = 0.30000000000000004).
+pub(super) fn log_ticks(lo: f64, hi: f64, at_least: usize) -> Vec<f64> {
+    let with = |mantissas: &[f64]| {
+        let mut ticks = Vec::new();
+        let mut exp = lo.log10().floor() as i32;
+        while 10f64.powi(exp) <= hi {
+            for m in mantissas {
+                let v = if exp >= 0 {
+                    m * 10f64.powi(exp)
+                } else {
+                    m / 10f64.powi(-exp)
+                };
+                if (lo..=hi).contains(&v) {
+                    ticks.push(v);
+                }
+            }
+            exp += 1;
+        }
+        ticks
+    };
+    let mut ticks = Vec::new();
+    for set in LOG_MANTISSAS {
+        ticks = with(set);
+        if ticks.len() >= at_least {
+            break;
+        }
     }
     ticks
+}
+
+/// A tick label without float noise: three significant figures (whole numbers whole), no
+/// trailing zeros: 0.3, 1.5, 20, 1235.
+pub(super) fn short(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let decimals = (2 - v.abs().log10().floor() as i32).clamp(0, 9) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
 }
 
 fn lines<DB: DrawingBackend>(
@@ -522,7 +618,9 @@ fn lines<DB: DrawingBackend>(
             .y_label_area_size(88)
             .build_cartesian_2d(
                 categories(-0.4..n as f64 - 0.6, n),
-                (lo..hi).log_scale().with_key_points(log_ticks(lo, hi)),
+                (lo..hi)
+                    .log_scale()
+                    .with_key_points(log_ticks(lo, hi, LOG_Y_TICKS)),
             )
             .map_err(err)?;
         let x_fmt = |v: &f64| label_at(&plot.categories, *v);
@@ -574,7 +672,8 @@ fn traces<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     plot: &TracePlot,
 ) -> Result<(), DrawError> {
-    let areas = area.split_evenly((1, plot.panels.len().max(1)));
+    let rows = plot.rows.max(1);
+    let areas = area.split_evenly((rows, plot.panels.len().div_ceil(rows).max(1)));
     for (panel, area) in plot.panels.iter().zip(&areas) {
         let points = || panel.traces.iter().flat_map(|t| &t.points);
         let y_max = points().map(|p| p.1).fold(0.0, f64::max).max(1e-3) * 1.15;
@@ -599,11 +698,13 @@ fn traces<DB: DrawingBackend>(
             };
             let chart = builder()
                 .build_cartesian_2d(
-                    (lo..hi).log_scale().with_key_points(log_ticks(lo, hi)),
+                    (lo..hi)
+                        .log_scale()
+                        .with_key_points(log_ticks(lo, hi, LOG_X_TICKS)),
                     0.0..y_max,
                 )
                 .map_err(err)?;
-            trace_panel(chart, plot, panel, |v| format!("{v}"))?;
+            trace_panel(chart, plot, panel, short)?;
         } else {
             let chart = builder()
                 .build_cartesian_2d(0.0..x_max, 0.0..y_max)
@@ -637,6 +738,10 @@ where
         .max_light_lines(1)
         .draw()
         .map_err(err)?;
+    // A point's label is drawn only where it overlaps no label already drawn: in a cluster of
+    // points the first trace's labels stand for the rest.
+    let mut placed: Vec<(i32, i32, i32, i32)> = Vec::new();
+    let label_style = font(13.0);
     for trace in &panel.traces {
         let line: Vec<(f64, f64)> = trace.points.iter().map(|p| (p.0, p.1)).collect();
         chart
@@ -647,14 +752,29 @@ where
                 trace
                     .points
                     .iter()
-                    .filter(|p| !p.2.is_empty())
-                    .map(|(x, y, label)| {
-                        EmptyElement::at((*x, *y))
-                            + Circle::new((0, 0), 5, trace.color.filled())
-                            + Text::new(label.clone(), (7, -18), font(13.0))
-                    }),
+                    .map(|(x, y, _)| Circle::new((*x, *y), 5, trace.color.filled())),
             )
             .map_err(err)?;
+        for (x, y, label) in trace.points.iter().filter(|p| !p.2.is_empty()) {
+            let (px, py) = chart.backend_coord(&(*x, *y));
+            let (w, h) = chart
+                .plotting_area()
+                .estimate_text_size(label, &label_style)
+                .map_err(err)?;
+            let rect = (px + 7, py - 18, px + 7 + w as i32, py - 18 + h as i32);
+            let clear = placed
+                .iter()
+                .all(|r| rect.2 < r.0 || r.2 < rect.0 || rect.3 < r.1 || r.3 < rect.1);
+            if clear {
+                placed.push(rect);
+                chart
+                    .draw_series(std::iter::once(
+                        EmptyElement::at((*x, *y))
+                            + Text::new(label.clone(), (7, -18), label_style.clone()),
+                    ))
+                    .map_err(err)?;
+            }
+        }
     }
     Ok(())
 }
@@ -752,5 +872,33 @@ pub(super) fn ms(v: f64) -> String {
         "0".into()
     } else {
         format!("{v:.1e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn log_ticks_read_as_decimals_and_are_dense_enough() {
+        let ticks = log_ticks(0.1, 10.0, LOG_X_TICKS);
+        assert_eq!(ticks, [0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0]);
+        assert!(ticks.contains(&0.2), "0.2 is the decimal, not 2 × 0.1");
+        // A narrow range, like the DP frame times of one cell, gets finer ticks.
+        let narrow = log_ticks(3.5, 33.0, LOG_Y_TICKS);
+        assert!(narrow.len() >= LOG_Y_TICKS, "{narrow:?}");
+        assert_eq!(&narrow[..4], [4.0, 5.0, 6.0, 7.0]);
+        assert_eq!(log_ticks(0.25, 0.35, 1), [0.3]);
+        assert_eq!(log_ticks(0.25, 0.35, 1)[0].to_string(), "0.3");
+    }
+
+    #[test]
+    fn short_labels_have_no_float_noise() {
+        assert_eq!(short(0.1 * 3.0), "0.3");
+        assert_eq!(short(0.30000000000000004), "0.3");
+        assert_eq!(short(1.5), "1.5");
+        assert_eq!(short(20.0), "20");
+        assert_eq!(short(0.05), "0.05");
+        assert_eq!(short(1234.6), "1235");
     }
 }

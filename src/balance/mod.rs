@@ -3,196 +3,33 @@
 //! 3", section 5.3). Below it the main thread waits; above it the helper idles. Each probe runs
 //! the cell and its serial (and, for DP, its UP) twins in paired, interleaved trials, and reads
 //! the sign from every frame's recorded waits, which survives noise better than FPS alone.
+//!
+//! The search runs on a [`Testbed`] (the sweep implements it), and what it finds is plain data
+//! in [`record`], which the config and results files hold; so nothing here imports the sweep,
+//! the config or the results.
+
+pub mod record;
+
+pub use record::{BalanceEntry, BalanceSettings, Probe, Ratio};
 
 use crate::cell::CellKey;
 use crate::crosscore;
-use crate::frame_loop::{self, Budget, LoopError, Mode};
+use crate::frame_loop::{self, Budget, LoopError, LoopSpec, Mode};
 use crate::input::InputError;
 use crate::measure::{FrameRecord, Summary, Trial};
 use crate::stats;
-use crate::sweep::Sweep;
-use serde::{Deserialize, Serialize};
 
-/// How the search runs; the config key `balance` (an object) sets it.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct BalanceSettings {
-    /// Stop bisecting when the bracket is narrower than this percentage of the step S.
-    pub tolerance_percent: f64,
-    /// Points of the speed-up curve, log-spaced over `range`.
-    pub points: usize,
-    /// The curve's range, and the search's, as W ÷ S.
-    pub range: [f64; 2],
-    /// Paired trials at every probe.
-    pub trials: u32,
-}
-
-impl Default for BalanceSettings {
-    fn default() -> Self {
-        BalanceSettings {
-            tolerance_percent: 2.0,
-            points: 12,
-            range: [0.1, 10.0],
-            trials: 3,
-        }
-    }
-}
-
-impl BalanceSettings {
-    /// Checks every field, naming it and what is allowed.
-    pub fn validate(&self, field: &str) -> Result<(), InputError> {
-        let t = self.tolerance_percent;
-        if !(t.is_finite() && t > 0.0 && t <= 50.0) {
-            return Err(InputError(format!(
-                "{field}tolerance_percent: must be above 0 and at most 50, got {t}"
-            )));
-        }
-        if !(2..=64).contains(&self.points) {
-            return Err(InputError(format!(
-                "{field}points: must be 2 to 64, got {}",
-                self.points
-            )));
-        }
-        let [a, b] = self.range;
-        if !(a.is_finite() && b.is_finite() && 0.0 < a && a < b && b <= 100.0) {
-            return Err(InputError(format!(
-                "{field}range: must be [from, to] with 0 < from < to <= 100 (times the step), got [{a}, {b}]"
-            )));
-        }
-        if !(1..=20).contains(&self.trials) {
-            return Err(InputError(format!(
-                "{field}trials: must be 1 to 20, got {}",
-                self.trials
-            )));
-        }
-        Ok(())
-    }
-}
-
-/// One measured workload.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Probe {
-    /// The main thread's workload per frame (µs).
-    pub workload_us: f64,
-    /// The cell's trial FPS.
-    pub fps: Vec<f64>,
-    /// The serial twin's trial FPS, paired with the cell's.
-    pub serial_fps: Vec<f64>,
-    /// The UP twin's trial FPS (empty when the cell is UP).
-    pub up_fps: Vec<f64>,
-    /// Median time per frame the main thread waited for the mesh (µs), per trial.
-    pub main_wait_us: Vec<f64>,
-    /// Median time per frame the helper waited for a free slot (µs), per trial.
-    pub helper_wait_us: Vec<f64>,
-    /// The cell's median frame time over every trial (ms).
-    pub frame_ms: f64,
-}
-
-impl Probe {
-    /// Per trial: positive while the main thread waits (below the balance), negative while the
-    /// helper idles (above it).
-    fn signs(&self) -> Vec<f64> {
-        self.main_wait_us
-            .iter()
-            .zip(&self.helper_wait_us)
-            .map(|(m, h)| m - h)
-            .collect()
-    }
-
-    /// Whether the main thread waits (below the balance) or the helper idles (above it), or
-    /// `None` when the mean over trials lies within two standard errors of zero: the balance is
-    /// then within [`Probe::noise_us`] of this probe.
-    fn below(&self) -> Option<bool> {
-        let signs = self.signs();
-        let mean = stats::mean(&signs);
-        if mean.abs() > self.noise_us() {
-            Some(mean > 0.0)
-        } else {
-            None
-        }
-    }
-
-    /// Two standard errors of the mean wait difference over the trials (µs).
-    fn noise_us(&self) -> f64 {
-        let signs = self.signs();
-        2.0 * stats::stddev(&signs) / (signs.len() as f64).sqrt()
-    }
-
-    /// The cell's FPS over the serial twin's, with the 95% bootstrap interval `compare` uses.
-    pub fn over_serial(&self, seed: u64) -> Ratio {
-        Ratio::of(&self.serial_fps, &self.fps, seed)
-    }
-
-    /// The cell's FPS over the UP twin's, when there is one.
-    pub fn over_up(&self, seed: u64) -> Option<Ratio> {
-        (!self.up_fps.is_empty()).then(|| Ratio::of(&self.up_fps, &self.fps, seed))
-    }
-}
-
-/// A ratio of mean FPS with its 95% interval.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Ratio {
-    /// Mean of the new trials over mean of the base trials.
-    pub value: f64,
-    /// Lower end of the 95% interval.
-    pub low: f64,
-    /// Upper end.
-    pub high: f64,
-}
-
-impl Ratio {
-    fn of(base: &[f64], new: &[f64], seed: u64) -> Ratio {
-        let value = stats::mean(new) / stats::mean(base);
-        let (low, high) = if base.len() < 2 || new.len() < 2 {
-            (value, value)
-        } else {
-            let (lo, hi) = stats::bootstrap_change_pct(base, new, 10_000, seed);
-            (1.0 + lo / 100.0, 1.0 + hi / 100.0)
-        };
-        Ratio { value, low, high }
-    }
-}
-
-/// What the search found for one cell.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct BalanceEntry {
-    /// The cell (its workload index is unused: W is set directly).
-    #[serde(flatten)]
-    pub key: CellKey,
-    /// The helper's step S, measured in the cell with no workload (µs).
-    pub step_us: f64,
-    /// The balance workload (µs): the middle of the final bracket. Absent when there is none
-    /// (UP, where one core runs both).
-    pub balance_us: Option<f64>,
-    /// The final bracket's lower end (µs).
-    pub balance_us_low: Option<f64>,
-    /// The final bracket's upper end (µs).
-    pub balance_us_high: Option<f64>,
-    /// DP ÷ serial at the balance point.
-    pub dp_over_serial: Option<f64>,
-    /// Its 95% interval's lower end.
-    pub dp_over_serial_low: Option<f64>,
-    /// Its upper end.
-    pub dp_over_serial_high: Option<f64>,
-    /// DP ÷ UP at the balance point, with its interval.
-    pub dp_over_up: Option<Ratio>,
-    /// How far the balanced frame time lies above max(W, S), in percent: the hand-off and the
-    /// copy the threads cannot overlap.
-    pub overhead_percent: Option<f64>,
-    /// Cache-line round trip between the two cores before and after the search (ns).
-    pub round_trip_ns: Vec<f64>,
-    /// Why the bracket stopped wider than the tolerance, or why there is no balance point.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub note: Option<String>,
-    /// Every measured point: the curve's, the search's and the balance's.
-    pub probes: Vec<Probe>,
-}
-
-impl BalanceEntry {
-    /// The balance point as a fraction of the step.
-    pub fn fraction(&self) -> Option<f64> {
-        self.balance_us.map(|b| b / self.step_us)
-    }
+/// What a search needs of the run it probes on: the loop of any cell at a given workload, the
+/// trial budget, the workload's calibration and the two cores.
+pub trait Testbed {
+    /// The loop of `key` with `iterations` of main-thread work per frame.
+    fn loop_spec(&self, key: &CellKey, iterations: u64) -> LoopSpec;
+    /// When a probe's trial stops.
+    fn budget(&self) -> Budget;
+    /// The workload's calibrated speed (ns per iteration).
+    fn ns_per_iteration(&self) -> f64;
+    /// The main and helper cores.
+    fn cores(&self) -> [usize; 2];
 }
 
 /// Why a search could not run.
@@ -216,7 +53,7 @@ pub enum BalanceError {
 
 /// Runs the search and the curve for `key` (a DP or UP cell) on `sweep`'s machine set-up.
 pub fn search(
-    sweep: &Sweep,
+    sweep: &dyn Testbed,
     key: &CellKey,
     settings: &BalanceSettings,
 ) -> Result<BalanceEntry, BalanceError> {
@@ -347,7 +184,7 @@ fn bracket(
 
 /// Runs a cell and its twins at a chosen workload.
 struct Prober<'a> {
-    sweep: &'a Sweep,
+    sweep: &'a dyn Testbed,
     key: &'a CellKey,
     serial: CellKey,
     up: Option<CellKey>,
@@ -356,7 +193,7 @@ struct Prober<'a> {
 }
 
 impl<'a> Prober<'a> {
-    fn new(sweep: &'a Sweep, key: &'a CellKey, settings: &'a BalanceSettings) -> Prober<'a> {
+    fn new(sweep: &'a dyn Testbed, key: &'a CellKey, settings: &'a BalanceSettings) -> Prober<'a> {
         let twin = |mode: Mode| {
             key.with(crate::cell::Dim::Mode, crate::cell::DimValue::value(mode))
                 .expect("a threaded cell has a serial and an UP twin")
@@ -367,12 +204,12 @@ impl<'a> Prober<'a> {
             serial: twin(Mode::Serial),
             up: (key.mode == Mode::Dp).then(|| twin(Mode::Up)),
             settings,
-            budget: sweep.results.config.budget(),
+            budget: sweep.budget(),
         }
     }
 
     fn trial(&self, key: &CellKey, workload_us: f64) -> Result<Trial, BalanceError> {
-        let ns_per_iteration = self.sweep.results.calibration.workload.ns_per_iteration;
+        let ns_per_iteration = self.sweep.ns_per_iteration();
         let iterations = (workload_us * 1e3 / ns_per_iteration).round() as u64;
         let spec = self.sweep.loop_spec(key, iterations);
         match frame_loop::run(&spec, &self.budget, |_, _| {}) {
