@@ -3,18 +3,31 @@
 //! adaptive mutexes do). Across two cores a short wait is caught while spinning, at the
 //! cache-line floor; on one core spinning cannot succeed (the other side needs the core), so the
 //! spin shrinks to nothing and the yield hands the core over; a waiter that always waits long
-//! stops polling and sleeps, which costs a wake-up but no CPU.
+//! stops polling and sleeps, which costs a wake-up but no CPU. So does a waiter whose other side
+//! is not waiting on it (its last wait was over at once): a late wake-up costs no frame there.
 //!
-//! The counters are the same as `atomic`'s. Blocking uses parking_lot's mutex and condition
-//! variable (futex-backed, with timed waits, which `atomic-wait` lacks; and already model-checked
-//! here through the loom facade). A waiter registers itself as a sleeper before its last look at
-//! the counters, and a signaller looks for sleepers after changing them, both sequentially
-//! consistent, so a wake-up cannot be lost between the look and the sleep.
+//! The spin is counted in polls, converted from time with the machine's poll rate measured once
+//! per process (`polls`), so a wait the spin catches never reads the clock; the clock is read
+//! from the end of the spin on, where a yield or a sleep costs far more than a clock read. Each
+//! side's learnt phases, the counters and the sleepers each have a cache line of their own.
+//!
+//! The counters are `atomic`'s, each written by one side only, so a change is a plain store.
+//! Blocking uses parking_lot's mutex and condition variable (futex-backed, with timed waits,
+//! which `atomic-wait` lacks; and model-checked here through the loom facade). A waiter
+//! registers itself as a sleeper, then fences, then looks at the counters a last time; a
+//! signaller stores, fences, then looks for sleepers; the two fences order each side's store
+//! before its load, so one of them sees the other's store and a wake-up cannot be lost. The
+//! fences are asymmetric (`fence`): the signaller, on every hand-off, pays a compiler barrier;
+//! the sleeper, already on its way to a wake-up of tens of µs, pays `membarrier`.
 
-use super::primitives::{
-    spin_loop, yield_now, AtomicBool, AtomicU64, Ordering, PlCondvar, PlMutex,
-};
+use super::fence;
+use super::polls;
+use super::primitives::{AtomicBool, AtomicU64, Ordering, PlCondvar, PlMutex};
 use super::{Free, Handoff, Ring, TimedOut};
+use crossbeam_utils::CachePadded;
+// The learnt phase lengths are hints each side keeps for itself, no part of the protocol, so
+// they are std's atomics even under loom (which then has fewer states to explore).
+use std::sync::atomic::{AtomicBool as HintBool, AtomicU64 as HintU64, Ordering::Relaxed};
 use std::time::{Duration, Instant};
 
 /// Longest spin: a few cross-core round trips, far below a scheduler tick.
@@ -23,16 +36,39 @@ const SPIN_MAX_NS: u64 = 20_000;
 const YIELD_MAX_NS: u64 = 1_000_000;
 /// A spin that has shrunk to nothing is tried again this often, in case the threads moved to
 /// two cores.
-const PROBE_EVERY: u32 = 64;
+const PROBE_EVERY: u64 = 64;
 /// The spin tried then.
 const PROBE_NS: u64 = 2_000;
+/// A spin shorter than this has shrunk to nothing.
+const SHRUNK_NS: u64 = 100;
 
-/// One side's wait phases, adapted after every wait.
-#[derive(Default)]
+/// The spin's bounds in polls, from this machine's poll rate.
+struct SpinBounds {
+    per_us: f64,
+    max: u64,
+    probe: u64,
+    shrunk: u64,
+}
+
+impl SpinBounds {
+    fn at(per_us: f64) -> SpinBounds {
+        SpinBounds {
+            per_us,
+            max: polls::in_ns(SPIN_MAX_NS, per_us).max(1),
+            probe: polls::in_ns(PROBE_NS, per_us).max(1),
+            shrunk: polls::in_ns(SHRUNK_NS, per_us).max(1),
+        }
+    }
+}
+
+/// One side's wait phases, adapted after every wait: the spin in polls, the yield in time.
 struct Phases {
-    spin_ns: AtomicU64,
-    yield_ns: AtomicU64,
-    waits: AtomicU64,
+    spin_polls: HintU64,
+    yield_ns: HintU64,
+    waits: HintU64,
+    /// Whether this side's last wait was over at its first look: it is not waiting for the
+    /// other side, which then has time to spare.
+    unhurried: HintBool,
 }
 
 /// How a wait ended.
@@ -43,129 +79,185 @@ enum Phase {
 }
 
 impl Phases {
-    fn new() -> Phases {
+    fn new(bounds: &SpinBounds) -> Phases {
         Phases {
-            spin_ns: AtomicU64::new(PROBE_NS),
-            yield_ns: AtomicU64::new(100_000),
-            waits: AtomicU64::new(0),
+            spin_polls: HintU64::new(bounds.probe),
+            yield_ns: HintU64::new(100_000),
+            waits: HintU64::new(0),
+            unhurried: HintBool::new(false),
         }
     }
 
-    /// Grows the phase that caught the wait, shrinks the ones it went past.
-    fn learn(&self, phase: Phase, waited: Duration) {
-        let waited = waited.as_nanos() as u64;
-        let (spin, yielded) = (
-            self.spin_ns.load(Ordering::Relaxed),
-            self.yield_ns.load(Ordering::Relaxed),
-        );
+    /// Grows the phase that caught the wait, shrinks the ones it went past: `spun` polls were
+    /// made, and `after` is the time since the spin ended (zero when the spin caught it).
+    fn learn(&self, bounds: &SpinBounds, phase: Phase, spun: u64, after: Duration) {
+        let waited = polls::to_ns(spun, bounds.per_us) + after.as_nanos() as u64;
+        let (spin, yielded) = (self.spin_polls.load(Relaxed), self.yield_ns.load(Relaxed));
+        // A spin that caught a wait keeps at least a probe's length, and one that missed loses a
+        // quarter: a few waits stretched by a preemption (a busy machine) do not undo it, while
+        // on one core, where it never catches, it is gone within a dozen waits.
+        let missed = spin * 3 / 4;
         let (spin, yielded) = match phase {
-            Phase::Spin => ((2 * waited).clamp(spin, SPIN_MAX_NS), yielded),
-            Phase::Yield => (spin / 2, (2 * waited).clamp(yielded, YIELD_MAX_NS)),
+            Phase::Spin => (
+                (2 * spun).max(spin).max(bounds.probe).min(bounds.max),
+                yielded,
+            ),
+            Phase::Yield => (missed, (2 * waited).clamp(yielded, YIELD_MAX_NS)),
             // A short sleep says polling would have caught it; a long one that it would not.
-            Phase::Sleep if waited < YIELD_MAX_NS / 2 => (spin / 2, 2 * waited),
-            Phase::Sleep => (spin / 2, yielded / 2),
+            Phase::Sleep if waited < YIELD_MAX_NS / 2 => (missed, 2 * waited),
+            Phase::Sleep => (missed, yielded / 2),
         };
-        self.spin_ns.store(spin, Ordering::Relaxed);
-        self.yield_ns.store(yielded, Ordering::Relaxed);
+        self.spin_polls.store(spin, Relaxed);
+        self.yield_ns.store(yielded, Relaxed);
     }
 
-    /// This wait's spin: the learnt one, or a probe now and then when it has shrunk away.
-    fn spin_for(&self) -> u64 {
-        let waits = self.waits.fetch_add(1, Ordering::Relaxed);
-        let spin = self.spin_ns.load(Ordering::Relaxed);
-        if spin < 100 && waits.is_multiple_of(u64::from(PROBE_EVERY)) {
-            PROBE_NS
+    /// This wait's spin in polls: the learnt one, or a probe now and then when it has shrunk
+    /// away.
+    fn spin_for(&self, bounds: &SpinBounds) -> u64 {
+        // Only this side waits on its phases: a load and a store, no read-modify-write.
+        let waits = self.waits.load(Relaxed);
+        self.waits.store(waits.wrapping_add(1), Relaxed);
+        let spin = self.spin_polls.load(Relaxed);
+        if spin < bounds.shrunk && waits.is_multiple_of(PROBE_EVERY) {
+            bounds.probe
         } else {
             spin
         }
     }
 }
 
-/// The ring's counters, polled, then slept on.
-pub struct AdaptiveRing {
+/// The ring's counters and stop flag, on one cache line as `atomic`'s are: each is written by
+/// one side and polled by the other.
+struct Counters {
     head: AtomicU64,
     tail: AtomicU64,
     shutdown: AtomicBool,
-    depth: u64,
-    sleepers: AtomicU64,
+}
+
+/// What a sleeping waiter blocks on, and how many do: read by every change of the counters,
+/// written only when a waiter goes to sleep, so it stays cached on both sides.
+struct Sleepers {
+    count: AtomicU64,
     lock: PlMutex<()>,
     changed: PlCondvar,
-    producer: Phases,
-    consumer: Phases,
+}
+
+/// The ring's counters, polled, then slept on. The counters, the sleepers and each side's
+/// phases sit on cache lines of their own, so that learning after a wait does not disturb the
+/// line the other side polls.
+pub struct AdaptiveRing {
+    counters: CachePadded<Counters>,
+    sleepers: CachePadded<Sleepers>,
+    producer: CachePadded<Phases>,
+    consumer: CachePadded<Phases>,
+    bounds: SpinBounds,
+    depth: u64,
 }
 
 impl AdaptiveRing {
-    /// A ring of `depth` free slots.
+    /// A ring of `depth` free slots (the first in the process also measures the poll rate).
     pub fn new(depth: u64) -> Self {
+        let bounds = SpinBounds::at(polls::per_us());
+        fence::register();
         AdaptiveRing {
-            head: AtomicU64::new(0),
-            tail: AtomicU64::new(0),
-            shutdown: AtomicBool::new(false),
+            counters: CachePadded::new(Counters {
+                head: AtomicU64::new(0),
+                tail: AtomicU64::new(0),
+                shutdown: AtomicBool::new(false),
+            }),
+            sleepers: CachePadded::new(Sleepers {
+                count: AtomicU64::new(0),
+                lock: PlMutex::default(),
+                changed: PlCondvar::default(),
+            }),
+            producer: CachePadded::new(Phases::new(&bounds)),
+            consumer: CachePadded::new(Phases::new(&bounds)),
+            bounds,
             depth,
-            sleepers: AtomicU64::new(0),
-            lock: PlMutex::default(),
-            changed: PlCondvar::default(),
-            producer: Phases::new(),
-            consumer: Phases::new(),
         }
     }
 
     fn ring(&self) -> Ring {
         Ring {
-            head: self.head.load(Ordering::SeqCst),
-            tail: self.tail.load(Ordering::SeqCst),
-            shutdown: self.shutdown.load(Ordering::SeqCst),
+            head: self.counters.head.load(Ordering::Acquire),
+            tail: self.counters.tail.load(Ordering::Acquire),
+            shutdown: self.counters.shutdown.load(Ordering::Acquire),
         }
+    }
+
+    /// Adds one to `counter`, which only the calling side writes: a plain store, no
+    /// read-modify-write. Then wakes a sleeping waiter, if there is one.
+    fn bump(&self, counter: &AtomicU64) {
+        counter.store(counter.load(Ordering::Relaxed) + 1, Ordering::Release);
+        self.signal();
     }
 
     /// After a change of the counters: wakes a sleeping waiter, if there is one.
     fn signal(&self) {
-        if self.sleepers.load(Ordering::SeqCst) > 0 {
-            let _guard = self.lock.lock();
-            self.changed.notify_all();
+        // Pairs with the sleeper's heavy fence: either it sees the change or we see it.
+        fence::light();
+        if self.sleepers.count.load(Ordering::Relaxed) > 0 {
+            let _guard = self.sleepers.lock.lock();
+            self.sleepers.changed.notify_all();
         }
     }
 
     /// Waits until `ready` accepts the counters: spin, yield, then sleep, as `phases` says.
+    /// `other` is the other side's phases, read for whether it is waiting on this side.
     fn wait<T>(
         &self,
-        phases: &Phases,
+        (phases, other): (&Phases, &Phases),
         deadline: Instant,
         ready: impl Fn(&Ring) -> Option<T>,
     ) -> Result<T, TimedOut> {
-        if let Some(v) = ready(&self.ring()) {
+        let at_once = ready(&self.ring());
+        // Written only when it changes, so the line the other side reads stays shared.
+        if phases.unhurried.load(Relaxed) != at_once.is_some() {
+            phases.unhurried.store(at_once.is_some(), Relaxed);
+        }
+        if let Some(v) = at_once {
             return Ok(v);
         }
-        let start = Instant::now();
-        let spin_until = start + Duration::from_nanos(phases.spin_for());
-        let yield_until =
-            spin_until + Duration::from_nanos(phases.yield_ns.load(Ordering::Relaxed));
-        let mut polls: u32 = 0;
-        loop {
+        let spin = phases.spin_for(&self.bounds);
+        // loom does not model time: a few polls per phase let it explore every path.
+        let spin = if cfg!(loom) { spin.min(3) } else { spin };
+        for polls in 1..=spin {
+            relax(std::hint::spin_loop);
             if let Some(v) = ready(&self.ring()) {
-                phases.learn(Phase::Spin, start.elapsed());
+                phases.learn(&self.bounds, Phase::Spin, polls, Duration::ZERO);
                 return Ok(v);
-            }
-            spin_loop();
-            polls = polls.wrapping_add(1);
-            // loom does not model time: a few polls per phase let it explore every path.
-            if (polls.is_multiple_of(32) && Instant::now() >= spin_until)
-                || (cfg!(loom) && polls > 2)
-            {
-                break;
             }
         }
-        let mut yields: u32 = 0;
-        while Instant::now() < yield_until.min(deadline) && !(cfg!(loom) && yields > 2) {
+        // The clock is read from here on only: a wait the spin caught never reads it.
+        let spun = Instant::now();
+        // Past the spin, polling only burns the core when the other side is not waiting on
+        // this one: a wake-up's delay then costs nobody a frame (the helper ahead of a busy main
+        // thread), so there is no yield phase.
+        let yield_ns = if other.unhurried.load(Relaxed) {
+            0
+        } else {
+            phases.yield_ns.load(Relaxed)
+        };
+        let yield_until = (spun + Duration::from_nanos(yield_ns)).min(deadline);
+        let (mut now, mut yields) = (spun, 0u32);
+        // Under loom the phase is three looks whatever the clock says: a model must not depend on
+        // time.
+        while if cfg!(loom) {
+            yields < 3
+        } else {
+            now < yield_until
+        } {
+            relax(std::thread::yield_now);
+            yields += 1;
             if let Some(v) = ready(&self.ring()) {
-                phases.learn(Phase::Yield, start.elapsed());
+                // The clock before the yield: a lower bound, which is all growing needs.
+                phases.learn(&self.bounds, Phase::Yield, spin, now - spun);
                 return Ok(v);
             }
-            yield_now();
-            yields += 1;
+            now = Instant::now();
         }
         let outcome = self.sleep(deadline, &ready);
-        phases.learn(Phase::Sleep, start.elapsed());
+        phases.learn(&self.bounds, Phase::Sleep, spin, spun.elapsed());
         outcome
     }
 
@@ -174,48 +266,67 @@ impl AdaptiveRing {
         deadline: Instant,
         ready: &impl Fn(&Ring) -> Option<T>,
     ) -> Result<T, TimedOut> {
-        self.sleepers.fetch_add(1, Ordering::SeqCst);
-        let mut guard = self.lock.lock();
+        let sleepers = &self.sleepers;
+        sleepers.count.fetch_add(1, Ordering::Relaxed);
+        // Pairs with the signaller's light fence: either it sees us or we see its change.
+        fence::heavy();
+        let mut guard = sleepers.lock.lock();
         let outcome = loop {
             if let Some(v) = ready(&self.ring()) {
                 break Ok(v);
             }
-            if self.changed.wait_until(&mut guard, deadline).timed_out() {
+            if sleepers
+                .changed
+                .wait_until(&mut guard, deadline)
+                .timed_out()
+            {
                 break ready(&self.ring()).ok_or(TimedOut);
             }
         };
         drop(guard);
-        self.sleepers.fetch_sub(1, Ordering::SeqCst);
+        sleepers.count.fetch_sub(1, Ordering::Relaxed);
         outcome
+    }
+}
+
+/// Pauses between two looks, outside loom. A pause or yield under loom hands its scheduler to
+/// the other side until that side moves, so a waiter would never reach its sleep while the
+/// other side has yet to change the counters, the very race the sleep protocol must survive;
+/// there the phases are a few extra looks, which loom interleaves freely.
+fn relax(pause: fn()) {
+    if !cfg!(loom) {
+        pause();
     }
 }
 
 impl Handoff for AdaptiveRing {
     fn wait_free(&self, deadline: Instant) -> Result<Free, TimedOut> {
-        self.wait(&self.producer, deadline, |r| r.free(self.depth))
+        self.wait((&self.producer, &self.consumer), deadline, |r| {
+            r.free(self.depth)
+        })
     }
 
     fn publish(&self) {
-        self.tail.fetch_add(1, Ordering::SeqCst);
-        self.signal();
+        self.bump(&self.counters.tail);
     }
 
     fn wait_published(&self, frame: u64, deadline: Instant) -> Result<(), TimedOut> {
-        self.wait(&self.consumer, deadline, |r| r.filled(frame))
+        self.wait((&self.consumer, &self.producer), deadline, |r| {
+            r.filled(frame)
+        })
     }
 
     fn release(&self) {
-        self.head.fetch_add(1, Ordering::SeqCst);
-        self.signal();
+        self.bump(&self.counters.head);
     }
 
     fn shutdown(&self) {
-        self.shutdown.store(true, Ordering::SeqCst);
+        self.counters.shutdown.store(true, Ordering::Release);
         self.signal();
     }
 
     fn published(&self) -> u64 {
-        self.tail.load(Ordering::Acquire)
+        self.counters.tail.load(Ordering::Acquire)
     }
 }
 
@@ -225,34 +336,46 @@ mod tests {
 
     #[test]
     fn a_phase_that_catches_waits_grows_and_one_they_pass_shrinks() {
-        let p = Phases::new();
-        p.learn(Phase::Spin, Duration::from_nanos(3_000));
-        assert_eq!(p.spin_ns.load(Ordering::Relaxed), 6_000);
+        // 100 polls per µs: a spin of at most 2 000 polls, probes of 200, shrunk below 10.
+        let bounds = SpinBounds::at(100.0);
+        let p = Phases::new(&bounds);
+        let spin = || p.spin_polls.load(Relaxed);
+        let yielded = || p.yield_ns.load(Relaxed);
+        p.learn(&bounds, Phase::Spin, 30, Duration::ZERO);
+        assert_eq!(
+            spin(),
+            200,
+            "a spin that caught a wait keeps a probe's length"
+        );
+        p.learn(&bounds, Phase::Spin, 300, Duration::ZERO);
+        assert_eq!(spin(), 600, "a spin that caught the wait doubles past it");
+        p.learn(&bounds, Phase::Spin, 5_000, Duration::ZERO);
+        assert_eq!(spin(), 2_000, "up to {SPIN_MAX_NS} ns of polls");
+        p.learn(&bounds, Phase::Yield, spin(), Duration::from_micros(50));
+        assert_eq!(spin(), 1_500, "a spin that missed loses a quarter");
         for _ in 0..20 {
-            p.learn(Phase::Yield, Duration::from_micros(50));
+            p.learn(&bounds, Phase::Yield, spin(), Duration::from_micros(50));
         }
-        assert!(
-            p.spin_ns.load(Ordering::Relaxed) < 100,
-            "spinning that never works stops"
+        assert!(spin() < bounds.shrunk, "spinning that never works stops");
+        // The longest wait the yield caught: 20 µs of spin (2 000 polls) and 50 µs of yield.
+        assert_eq!(
+            yielded(),
+            2 * 70_000,
+            "a yield that caught waits grows to twice them"
         );
-        assert_eq!(p.yield_ns.load(Ordering::Relaxed), 100_000);
         for _ in 0..20 {
-            p.learn(Phase::Sleep, Duration::from_millis(12));
+            p.learn(&bounds, Phase::Sleep, spin(), Duration::from_millis(12));
         }
+        assert_eq!(yielded(), 0, "long waits stop polling");
+        p.learn(&bounds, Phase::Sleep, 0, Duration::from_micros(30));
+        assert_eq!(yielded(), 60_000, "short sleeps bring it back");
+        let probes: Vec<u64> = (0..PROBE_EVERY)
+            .map(|_| p.spin_for(&bounds))
+            .filter(|&polls| polls > 0)
+            .collect();
         assert_eq!(
-            p.yield_ns.load(Ordering::Relaxed),
-            0,
-            "long waits stop polling"
-        );
-        p.learn(Phase::Sleep, Duration::from_micros(30));
-        assert_eq!(
-            p.yield_ns.load(Ordering::Relaxed),
-            60_000,
-            "short sleeps bring it back"
-        );
-        let probes = (0..PROBE_EVERY).filter(|_| p.spin_for() > 0).count();
-        assert_eq!(
-            probes, 1,
+            probes,
+            [bounds.probe],
             "a shrunk spin is probed once every {PROBE_EVERY} waits"
         );
     }

@@ -5,11 +5,13 @@
 mod adaptive;
 mod channel;
 mod condvar;
+mod fence;
 mod flag;
 mod futex;
 mod mailbox;
 mod mutex;
 mod park;
+mod polls;
 mod primitives;
 mod ring;
 mod slot;
