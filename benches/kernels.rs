@@ -1,14 +1,15 @@
 //! Criterion benches: the kernels (reference, fast per-wave, fast fused) with heights only and
 //! with analytic normals, `neighbors` normals alone (`FaceNormals` vs the stencil), and whole
-//! steps through `Ocean` for each normal method, over grid sizes.
+//! steps through the sines model's stepper for each normal method, over grid sizes.
 //!
 //! `cargo bench --bench kernels -- --warm-up-time 1 --measurement-time 2`; throughput is in
 //! vertices, so criterion reports vertices per second. `lookup` is skipped above 64 (O(n²)).
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use oceanbench::ocean::fast::{FastKernel, StencilNormals};
 use oceanbench::ocean::normals::FaceNormals;
-use oceanbench::ocean::{reference, Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
+use oceanbench::ocean::sines::fast::{FastKernel, StencilNormals};
+use oceanbench::ocean::sines::reference;
+use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, WaveSet};
 
 const SIZES: [usize; 5] = [40, 128, 256, 512, 1024];
 
@@ -72,7 +73,10 @@ fn full_step(c: &mut Criterion) {
             let grid = Grid::new(n, 1.0).unwrap();
             group.throughput(Throughput::Elements(grid.vertices() as u64));
             for kernel in [Kernel::Reference, Kernel::Fast] {
-                let mut ocean = Ocean::new(grid, waves.clone(), normals, kernel).unwrap();
+                let mut ocean = OceanKind::Sines
+                    .model()
+                    .prepare(grid, &waves, normals, kernel)
+                    .unwrap();
                 let mut mesh = Mesh::new(grid);
                 group.bench_function(BenchmarkId::new(kernel.name(), n), |b| {
                     b.iter(|| ocean.step(black_box(1.5), &mut mesh))

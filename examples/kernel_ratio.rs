@@ -11,9 +11,10 @@
 //! {0, 1, 100, 1e4} and sizes up to 1024, and the largest difference between the two fast
 //! paths.
 
-use oceanbench::ocean::fast::{FastKernel, Isa, Path, StencilNormals};
 use oceanbench::ocean::normals::FaceNormals;
-use oceanbench::ocean::{reference, Grid, Mesh, NormalMethod, WaveSet};
+use oceanbench::ocean::sines::fast::{FastKernel, Isa, Path, StencilNormals};
+use oceanbench::ocean::sines::reference;
+use oceanbench::ocean::{Grid, Mesh, NormalMethod, WaveSet};
 
 /// The default set with every steepness moved off the half-integers (powf path).
 fn non_half_integer() -> WaveSet {

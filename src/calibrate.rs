@@ -1,5 +1,6 @@
 //! Workload levels measured against this machine. A `step_fraction` level is given in the
-//! yardstick step of a mesh size (reference kernel, `neighbors` normals) and resolved to workload
+//! yardstick step of a mesh size (the one [`LEVEL_OCEAN`] names: for the sums of sines, the
+//! reference kernel with `neighbors` normals) and resolved to workload
 //! iterations through the workload's measured speed. Both are measured at the start of a sweep
 //! and again before every row, interleaved, so "1.25 × the 256² step" keeps its meaning when the
 //! machine slows down mid-sweep (a shared VM's memory-bound step and ALU-bound workload do not
@@ -7,7 +8,7 @@
 
 pub use crate::config::Calibrate;
 use crate::config::Level;
-use crate::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
+use crate::ocean::{Grid, Mesh, OceanKind, WaveSet};
 use crate::stats;
 use crate::workload;
 use serde::{Deserialize, Serialize};
@@ -16,10 +17,15 @@ use std::time::{Duration, Instant};
 /// Drift beyond which a row's yardstick is reported as having moved since the sweep started.
 pub const DRIFT_WARNING: f64 = 0.10;
 
-/// One size's yardstick: an ocean ready to step, reference kernel and `neighbors` normals.
+/// The model whose yardstick step `step_fraction` levels are given in. Levels and the results
+/// file keep one yardstick per size, so a model with its own yardstick for its cells needs
+/// them keyed by model too (with the results schema version that comes with it).
+pub const LEVEL_OCEAN: OceanKind = OceanKind::Sines;
+
+/// One size's yardstick: an ocean ready to step, as the model's yardstick says.
 struct Stepper {
     size: usize,
-    ocean: Ocean,
+    ocean: Box<dyn crate::ocean::Stepper>,
     mesh: Mesh,
     frame: u32,
 }
@@ -28,7 +34,7 @@ struct Stepper {
 /// speed, sampled alternately.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Yardstick {
-    /// Median step (ms) of each size, reference kernel and `neighbors` normals.
+    /// Median step (ms) of each size, with [`LEVEL_OCEAN`]'s yardstick kernel and normals.
     pub step_ms: Vec<(usize, f64)>,
     /// Median nanoseconds per workload iteration.
     pub ns_per_iteration: f64,
@@ -51,14 +57,12 @@ impl Yardstick {
             .map(|&size| {
                 let grid =
                     Grid::new(size, spacing).expect("sizes are validated before calibration");
-                let mut ocean = Ocean::new(
-                    grid,
-                    waves.clone(),
-                    NormalMethod::Neighbors,
-                    Kernel::Reference,
-                )
-                .expect("neighbors accepts every valid size");
-                let mut mesh = Mesh::new(grid);
+                let model = LEVEL_OCEAN.model();
+                let (kernel, normals) = model.yardstick();
+                let mut ocean = model
+                    .prepare(grid, waves, normals, kernel)
+                    .expect("a model's yardstick accepts every valid size");
+                let mut mesh = model.mesh(grid);
                 ocean.step(0.0, &mut mesh);
                 Stepper {
                     size,

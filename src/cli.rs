@@ -395,6 +395,9 @@ pub struct MeshArgs {
     /// Waves file (JSON); default: the built-in deep-ocean set.
     #[arg(long)]
     pub waves: Option<PathBuf>,
+    /// Which ocean model computes the surface.
+    #[arg(long, value_enum, default_value = "sines")]
+    pub ocean: crate::ocean::OceanKind,
     /// How vertex normals are computed.
     #[arg(long, value_enum, default_value = "analytic")]
     pub normals: crate::ocean::NormalMethod,

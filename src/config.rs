@@ -5,7 +5,7 @@ use crate::affinity;
 use crate::balance::record::BalanceSettings;
 use crate::cell::{Axes, CellKey};
 use crate::frame_loop::{check_depth, check_helpers, Budget, Mode};
-use crate::ocean::{mesh, normals, Grid, Mesh, NormalMethod, Wave, WaveSet};
+use crate::ocean::{mesh, Grid, Mesh, Wave, WaveSet};
 use crate::suggest;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -420,25 +420,17 @@ impl SweepConfig {
     }
 }
 
-/// Refuses a cell the loops cannot run, naming the field: a helper count the threading, normals
-/// or size cannot split into, or `lookup` where one frame would take over a second. The lists
-/// are crossed, so one bad pair would otherwise fail cells mid-sweep.
+/// Refuses a cell the loops cannot run, naming the field: a helper count the threading, size
+/// or ocean model cannot split into, or parameters the model refuses (such as `lookup` where
+/// one frame would take over a second). The lists are crossed, so one bad pair would
+/// otherwise fail cells mid-sweep.
 fn check_cell(key: &CellKey) -> Result<(), InputError> {
+    let model = key.ocean.model();
     if let (Some(helpers), Some(threading)) = (key.helpers, key.threading) {
-        check_helpers(helpers, key.mode, threading, key.normals, key.size)?;
+        check_helpers(helpers, key.mode, threading, model, key.normals, key.size)?;
         check_depth(key.depth.unwrap_or(1), threading)?;
     }
-    if key.normals == NormalMethod::Lookup
-        && normals::lookup_work(key.size) > normals::LOOKUP_MAX_WORK
-    {
-        return Err(InputError(format!(
-            "normals: `lookup` at size {} would take over a second per frame \
-             (the paper's O(n²) search); use sizes <= {} with lookup",
-            key.size,
-            normals::lookup_max_size()
-        )));
-    }
-    Ok(())
+    model.check(key.size, key.normals)
 }
 
 /// Refuses a cell whose meshes (the ring's slots and the main thread's render buffer, with one

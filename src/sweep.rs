@@ -369,6 +369,7 @@ impl Sweep {
         let config = &self.results.config;
         LoopSpec {
             grid: Grid::new(key.size, config.spacing).expect("validated"),
+            ocean: key.ocean,
             waves: self.waves.clone(),
             normals: key.normals,
             kernel: key.kernel,

@@ -8,6 +8,7 @@
 use oceanbench::cell::{Axes, Dim, Value};
 use oceanbench::config::SweepConfig;
 use oceanbench::measure::{FrameRecord, Summary, Trial};
+use oceanbench::ocean::OceanKind;
 use oceanbench::report::chart::{self, ChartFormat, ChartOptions};
 use oceanbench::report::compare::{self, Metric};
 use oceanbench::report::{csv, markdown};
@@ -17,39 +18,65 @@ use std::path::Path;
 
 /// Two values of `dim` and config keys under which cells with both can run. Every dimension
 /// must have an entry: a new one fails `every_dimension_has_test_values` until it is added here.
-fn case(dim: Dim) -> Option<(serde_json::Value, serde_json::Value, serde_json::Value)> {
+/// A dimension with a single value so far has no second one (`None`): it is walked through
+/// the outputs by `every_value_reaches_csv_json_labels_and_compare` alone, until a second
+/// value, which `every_dimension_has_test_values` then asks for, lands.
+#[allow(clippy::type_complexity)]
+fn case(
+    dim: Dim,
+) -> Option<(
+    serde_json::Value,
+    Option<serde_json::Value>,
+    serde_json::Value,
+)> {
     let (a, b, extra) = match dim {
-        Dim::Size => (json!(16), json!(24), json!({})),
-        Dim::Workload => (json!(0), json!(1), json!({})),
-        Dim::Mode => (json!("up"), json!("dp"), json!({})),
-        Dim::Policy => (json!("fifo"), json!("latest"), json!({})),
-        Dim::Sync => (json!("atomic"), json!("condvar"), json!({})),
-        Dim::Threading => (json!("pool"), json!("spawn"), json!({})),
-        Dim::Helpers => (json!(1), json!(2), json!({"normals": ["analytic"]})),
-        Dim::Depth => (json!(1), json!(2), json!({})),
-        Dim::Consume => (json!("copy"), json!("handle"), json!({})),
-        Dim::Normals => (json!("neighbors"), json!("analytic"), json!({})),
-        Dim::Kernel => (json!("reference"), json!("fast"), json!({})),
+        Dim::Size => (json!(16), Some(json!(24)), json!({})),
+        Dim::Workload => (json!(0), Some(json!(1)), json!({})),
+        Dim::Mode => (json!("up"), Some(json!("dp")), json!({})),
+        Dim::Policy => (json!("fifo"), Some(json!("latest")), json!({})),
+        Dim::Sync => (json!("atomic"), Some(json!("condvar")), json!({})),
+        Dim::Threading => (json!("pool"), Some(json!("spawn")), json!({})),
+        Dim::Helpers => (json!(1), Some(json!(2)), json!({"normals": ["analytic"]})),
+        Dim::Depth => (json!(1), Some(json!(2)), json!({})),
+        Dim::Consume => (json!("copy"), Some(json!("handle")), json!({})),
+        Dim::Normals => (json!("neighbors"), Some(json!("analytic")), json!({})),
+        // The only model until the FFT ocean lands.
+        Dim::Ocean => (json!("sines"), None, json!({})),
+        Dim::Kernel => (json!("reference"), Some(json!("fast")), json!({})),
         #[allow(unreachable_patterns)]
         _ => return None,
     };
     Some((a, b, extra))
 }
 
-/// A one-cell-per-value config: every list has one value but `dim`, which has two.
+/// A one-cell-per-value config: every list has one value but `dim`, which has its two (or its
+/// only one).
 fn config(dim: Dim) -> SweepConfig {
     let (a, b, extra) = case(dim).expect("every dimension has a case");
+    config_with(dim, [Some(a), b].into_iter().flatten().collect(), extra)
+}
+
+/// The base config with `dim` listing `values` and the `extra` keys set.
+fn config_with(dim: Dim, values: Vec<serde_json::Value>, extra: serde_json::Value) -> SweepConfig {
     let mut text = json!({
         "sizes": [16], "workloads": [0], "modes": ["up"], "sync": ["atomic"],
         "threading": ["pool"], "helpers": [1], "depth": [1], "consume": ["copy"],
-        "normals": ["neighbors"], "kernel": ["reference"],
+        "normals": ["neighbors"], "ocean": ["sines"], "kernel": ["reference"],
         "trials": 2
     });
     for (k, v) in extra.as_object().unwrap() {
         text[k] = v.clone();
     }
-    text[dim.config_key()] = json!([a, b]);
+    text[dim.config_key()] = json!(values);
     SweepConfig::from_json(&text.to_string()).unwrap_or_else(|e| panic!("{dim}: {e}"))
+}
+
+/// The dimensions with two test values, which the pair tests below walk.
+fn paired() -> impl Iterator<Item = Dim> {
+    Dim::ALL
+        .iter()
+        .copied()
+        .filter(|&d| case(d).is_some_and(|(_, b, _)| b.is_some()))
 }
 
 /// A summary whose every trial runs at exactly `fps`.
@@ -98,7 +125,55 @@ fn results(config: SweepConfig, cells: Vec<Cell>) -> Results {
 #[test]
 fn every_dimension_has_test_values() {
     for &dim in Dim::ALL {
-        assert!(case(dim).is_some(), "add test values for {dim} to `case`");
+        let (_, b, _) = case(dim).unwrap_or_else(|| panic!("add test values for {dim} to `case`"));
+        let values = dim.names().map_or(usize::MAX, |names| names.len());
+        assert!(
+            b.is_some() || values == 1,
+            "{dim} has {values} values: give `case` its second one"
+        );
+    }
+}
+
+/// Every dimension's value, with one cell, reaches its CSV column, its results.json field and
+/// `compare --by`, and every label shows it unless it is the dimension's quiet value. A
+/// single-valued dimension (the ocean, for now) is covered here only.
+#[test]
+fn every_value_reaches_csv_json_labels_and_compare() {
+    for &dim in Dim::ALL {
+        let (a, _, extra) = case(dim).unwrap();
+        let config = config_with(dim, vec![a], extra);
+        let cells = config.axes.cells();
+        assert_eq!(cells.len(), 1, "{dim}: {cells:?}");
+        let key = cells[0].clone();
+        let value = key.get(dim).unwrap();
+        let r = results(config, vec![cell(key.clone(), 125.0)]);
+
+        let text = csv::to_string(&r).unwrap();
+        let mut reader = ::csv::Reader::from_reader(text.as_bytes());
+        let header = reader.headers().unwrap().clone();
+        let column = header
+            .iter()
+            .position(|h| h == dim.name())
+            .unwrap_or_else(|| panic!("no {dim} column in {header:?}"));
+        let row = reader.records().next().unwrap().unwrap();
+        assert_eq!(row[column], value.to_string(), "{dim}");
+
+        let json: serde_json::Value =
+            serde_json::from_str(&oceanbench::report::json::to_string(&r).unwrap()).unwrap();
+        assert_eq!(
+            json["cells"][0][dim.name()].to_string().trim_matches('"'),
+            value.to_string(),
+            "{dim}: results.json"
+        );
+
+        let shown = key.label().split(' ').any(|w| w == dim.label(value));
+        assert_eq!(shown, Some(value) != dim.quiet(), "{dim}: {}", key.label());
+
+        let by = compare::within(&r, dim, &value.to_string(), 5.0, Metric::Fps).unwrap_err();
+        assert!(
+            matches!(by, compare::CompareError::NoAlternative { .. }),
+            "{dim}: {by}"
+        );
     }
 }
 
@@ -141,7 +216,7 @@ fn pair(dim: Dim) -> (CellKey, CellKey) {
 
 #[test]
 fn every_dimension_is_expanded_labelled_and_written_to_csv() {
-    for &dim in Dim::ALL {
+    for dim in paired() {
         let (a, b) = pair(dim);
         assert_ne!(a.label(), b.label(), "{dim}");
         let r = results(
@@ -169,7 +244,7 @@ fn every_dimension_is_expanded_labelled_and_written_to_csv() {
 
 #[test]
 fn every_dimension_keeps_its_cells_apart_in_markdown_and_compare() {
-    for &dim in Dim::ALL {
+    for dim in paired() {
         let (a, b) = pair(dim);
         let baseline = a.get(dim).unwrap().to_string();
         let r = results(config(dim), vec![cell(a, 125.0), cell(b, 250.0)]);
@@ -206,7 +281,7 @@ fn figure_svg(r: &Results, select: Vec<(Dim, Value)>) -> String {
 
 #[test]
 fn every_dimension_is_laid_out_or_selectable_in_the_charts() {
-    for &dim in Dim::ALL {
+    for dim in paired() {
         let (a, b) = pair(dim);
         let (va, vb) = (a.get(dim).unwrap(), b.get(dim).unwrap());
         let r = results(config(dim), vec![cell(a, 125.0), cell(b, 250.0)]);
@@ -295,6 +370,11 @@ fn results_written_before_helpers_existed_still_load() {
             ),
             false => assert_eq!(c.key.helpers, Some(1)),
         }
+        assert_eq!(
+            c.key.ocean,
+            OceanKind::Sines,
+            "written before the ocean dimension"
+        );
     }
     let text = serde_json::to_string(&old).unwrap();
     let again: Results = serde_json::from_str(&text).unwrap();
@@ -307,7 +387,7 @@ fn results_written_before_helpers_existed_still_load() {
 /// the two cells stay apart by key.
 #[test]
 fn every_dimension_round_trips_through_results_json() {
-    for &dim in Dim::ALL {
+    for dim in paired() {
         let (a, b) = pair(dim);
         let r = results(
             config(dim),
@@ -339,7 +419,7 @@ fn every_dimension_round_trips_through_results_json() {
 /// the dimension out (both values appear) or, holding it at one value, says which.
 #[test]
 fn every_chart_names_the_value_of_every_dimension() {
-    for &dim in Dim::ALL {
+    for dim in paired() {
         let (a, b) = pair(dim);
         let vb = b.get(dim).unwrap();
         let r = results(config(dim), vec![cell(a, 125.0), cell(b, 250.0)]);

@@ -4,9 +4,10 @@
 //! in a height on AVX-512), and its
 //! stencil `neighbors` normals against the reference neighbour list.
 
-use oceanbench::ocean::fast::{FastKernel, Isa, Path, StencilNormals};
 use oceanbench::ocean::normals::FaceNormals;
-use oceanbench::ocean::{reference, Grid, Kernel, Mesh, NormalMethod, Ocean, Wave, WaveSet};
+use oceanbench::ocean::sines::fast::{FastKernel, Isa, Path, StencilNormals};
+use oceanbench::ocean::sines::reference;
+use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, Wave, WaveSet};
 use proptest::prelude::*;
 
 /// Max abs error of z, nx, ny, nz against the f64 oracle.
@@ -286,7 +287,10 @@ fn ocean_fast_kernel_matches_reference_for_every_normal_method() {
             .into_iter()
             .zip(&mut meshes)
         {
-            let mut ocean = Ocean::new(grid, WaveSet::default(), normals, kernel).unwrap();
+            let mut ocean = OceanKind::Sines
+                .model()
+                .prepare(grid, &WaveSet::default(), normals, kernel)
+                .unwrap();
             ocean.step(3.5, mesh);
         }
         let [r, f] = &meshes;

@@ -3,7 +3,7 @@
 
 use oceanbench::affinity;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
-use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, WaveSet};
+use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, WaveSet};
 use oceanbench::sync::{Policy, SyncMethod};
 use std::time::Duration;
 
@@ -13,6 +13,7 @@ fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMetho
     let cores = affinity::allowed_cores();
     LoopSpec {
         grid: Grid::new(9, 0.75).unwrap(),
+        ocean: OceanKind::Sines,
         waves: WaveSet::default(),
         normals,
         kernel: Kernel::Reference,
@@ -446,11 +447,10 @@ fn a_raised_stop_flag_interrupts_every_loop() {
 }
 
 /// Under `latest`, every mesh the main thread takes is the surface at the frame index it was
-/// computed for (bit for bit what a lone `Ocean` gives at that time), and the indices never
+/// computed for (bit for bit what a lone stepper of the cell's model gives at that time), and the indices never
 /// decrease, whatever the helper dropped or the main thread took twice.
 #[test]
 fn latest_meshes_are_the_serial_mesh_of_their_index_and_indices_never_decrease() {
-    use oceanbench::ocean::Ocean;
     for sync in SyncMethod::of_policy(Policy::Latest) {
         for mode in modes() {
             for consume in [Consume::Copy, Consume::Handle] {
@@ -463,8 +463,11 @@ fn latest_meshes_are_the_serial_mesh_of_their_index_and_indices_never_decrease()
                     indices.windows(2).all(|w| w[0] <= w[1]),
                     "{sync} {mode} {consume}: {indices:?}"
                 );
-                let mut ocean = Ocean::new(s.grid, s.waves.clone(), s.normals, s.kernel).unwrap();
-                let mut want = Mesh::new(s.grid);
+                let model = s.ocean.model();
+                let mut ocean = model
+                    .prepare(s.grid, &s.waves, s.normals, s.kernel)
+                    .unwrap();
+                let mut want = model.mesh(s.grid);
                 for (k, mesh) in &seen {
                     ocean.step((*k as f64 * s.time_step) as f32, &mut want);
                     assert!(

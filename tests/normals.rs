@@ -1,10 +1,13 @@
 //! The three normal methods against each other and against the equations.
 
-use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
+use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, WaveSet};
 
 fn step(n: usize, spacing: f32, t: f32, normals: NormalMethod) -> Mesh {
     let grid = Grid::new(n, spacing).unwrap();
-    let mut ocean = Ocean::new(grid, WaveSet::default(), normals, Kernel::Reference).unwrap();
+    let mut ocean = OceanKind::Sines
+        .model()
+        .prepare(grid, &WaveSet::default(), normals, Kernel::Reference)
+        .unwrap();
     let mut mesh = Mesh::new(grid);
     ocean.step(t, &mut mesh);
     mesh
@@ -87,13 +90,15 @@ fn neighbors_approaches_analytic_as_spacing_shrinks() {
 #[test]
 fn lookup_refuses_grids_that_would_take_too_long() {
     let grid = Grid::new(512, 1.0).unwrap();
-    let err = Ocean::new(
-        grid,
-        WaveSet::default(),
-        NormalMethod::Lookup,
-        Kernel::Reference,
-    )
-    .unwrap_err()
-    .to_string();
+    let err = OceanKind::Sines
+        .model()
+        .prepare(
+            grid,
+            &WaveSet::default(),
+            NormalMethod::Lookup,
+            Kernel::Reference,
+        )
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("lookup") && err.contains("size <="), "{err}");
 }

@@ -10,7 +10,7 @@
 
 use oceanbench::affinity;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
-use oceanbench::ocean::{Grid, Kernel, NormalMethod, WaveSet};
+use oceanbench::ocean::{Grid, Kernel, NormalMethod, OceanKind, WaveSet};
 use oceanbench::sync::{Policy, SyncMethod};
 use std::time::Duration;
 
@@ -34,6 +34,7 @@ fn a_million_frames_per_method_none_lost() {
             for sync in SyncMethod::of_policy(Policy::Fifo) {
                 let spec = LoopSpec {
                     grid: Grid::new(2, 1.0).unwrap(),
+                    ocean: OceanKind::Sines,
                     waves: WaveSet::default(),
                     normals: NormalMethod::Analytic,
                     kernel: Kernel::Reference,

@@ -1,6 +1,6 @@
 //! The wave equations at hand-computed points, and validation of waves files.
 
-use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, Wave, WaveSet};
+use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, Wave, WaveSet};
 
 fn one_wave(steepness: f32) -> WaveSet {
     WaveSet::new(vec![Wave {
@@ -16,7 +16,10 @@ fn one_wave(steepness: f32) -> WaveSet {
 
 fn step(waves: &WaveSet, n: usize, t: f32, normals: NormalMethod) -> Mesh {
     let grid = Grid::new(n, 1.0).unwrap();
-    let mut ocean = Ocean::new(grid, waves.clone(), normals, Kernel::Reference).unwrap();
+    let mut ocean = OceanKind::Sines
+        .model()
+        .prepare(grid, waves, normals, Kernel::Reference)
+        .unwrap();
     let mut mesh = Mesh::new(grid);
     ocean.step(t, &mut mesh);
     mesh

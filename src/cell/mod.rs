@@ -15,7 +15,7 @@ pub use declare::{DimValue, Value};
 
 use crate::frame_loop::{self, Consume, Mode, Threading, MAX_DEPTH, MAX_HELPERS};
 use crate::input::InputError;
-use crate::ocean::{mesh::MAX_SIZE, Kernel, NormalMethod};
+use crate::ocean::{mesh::MAX_SIZE, Kernel, NormalMethod, OceanKind};
 use crate::sync::{Policy, SyncMethod};
 use declare::{dim_values, dimensions};
 use itertools::Itertools;
@@ -27,6 +27,7 @@ dim_values!(
     Threading,
     Consume,
     NormalMethod,
+    OceanKind,
     Kernel
 );
 
@@ -117,6 +118,15 @@ dimensions! {
         row: true,
         label: "{}",
         title: "{} normals",
+    }
+    /// Which ocean model the helper computes.
+    Ocean(ocean: OceanKind) {
+        config: ocean = [OceanKind::Sines],
+        cells: all,
+        row: true,
+        label: "{}",
+        title: "{} ocean",
+        quiet: OceanKind::Sines,
     }
     /// Which kernel computes the mesh.
     Kernel(kernel: Kernel) {
@@ -213,10 +223,12 @@ impl CellKey {
         self.label_without(&others)
     }
 
-    /// Whether the loops can run this combination of values: a method belongs to one policy,
-    /// and `latest` runs one persistent helper with no ring. The sweep leaves such
-    /// combinations out of its product; see [`Axes::check_coverage`].
+    /// Whether the loops can run this combination of values: the ocean model offers the
+    /// kernel and normals, a method belongs to one policy, and `latest` runs one persistent
+    /// helper with no ring. The sweep leaves such combinations out of its product; see
+    /// [`Axes::check_coverage`].
     pub fn coherent(&self) -> Result<(), InputError> {
+        self.check_offers()?;
         match (
             self.policy,
             self.sync,
@@ -229,6 +241,27 @@ impl CellKey {
             }
             _ => Ok(()),
         }
+    }
+
+    /// Refuses a kernel or normal method the cell's ocean model does not offer.
+    fn check_offers(&self) -> Result<(), InputError> {
+        let model = self.ocean.model();
+        let refuse = |key: &str, value: &str, offered: Vec<&str>| {
+            InputError(format!(
+                "{key}: the `{}` ocean offers {}, not `{value}`",
+                self.ocean,
+                offered.join(", ")
+            ))
+        };
+        if !model.kernels().contains(&self.kernel) {
+            let offered = model.kernels().iter().map(|k| k.name()).collect();
+            return Err(refuse("kernel", self.kernel.name(), offered));
+        }
+        if !model.normals().contains(&self.normals) {
+            let offered = model.normals().iter().map(|n| n.name()).collect();
+            return Err(refuse("normals", self.normals.name(), offered));
+        }
+        Ok(())
     }
 
     /// The values of the row dimensions: cells with equal rows run interleaved.

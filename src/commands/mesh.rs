@@ -3,7 +3,7 @@
 use super::CliError;
 use crate::cli::MeshArgs;
 use crate::config::InputError;
-use crate::ocean::{Grid, Mesh, Ocean, WaveSet};
+use crate::ocean::{Grid, WaveSet};
 use crate::report::csv;
 use serde::Serialize;
 
@@ -45,8 +45,9 @@ pub(super) fn mesh(args: MeshArgs) -> Result<(), CliError> {
         Some(path) => WaveSet::load(path).map_err(|e| InputError(e.to_string()))?,
         None => WaveSet::default(),
     };
-    let mut ocean = Ocean::new(grid, waves, args.normals, args.kernel)?;
-    let mut mesh = Mesh::new(grid);
+    let model = args.ocean.model();
+    let mut ocean = model.prepare(grid, &waves, args.normals, args.kernel)?;
+    let mut mesh = model.mesh(grid);
     ocean.step(args.time, &mut mesh);
     let file = std::fs::File::create(&args.out)
         .map_err(|e| InputError(format!("--out: cannot create {}: {e}", args.out.display())))?;

@@ -13,7 +13,7 @@ use super::pool::{drive, Helpers, Stop};
 use super::slots::{ns, timed};
 use super::{Budget, LoopError, LoopRun, LoopSpec};
 use crate::measure::FrameRecord;
-use crate::ocean::{Mesh, Ocean};
+use crate::ocean::{Mesh, Stepper};
 use crate::sync::{MailboxIn, MailboxOut};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
@@ -46,12 +46,12 @@ impl Stop for Latest {
 pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
-    ocean: Ocean,
+    ocean: Box<dyn Stepper>,
     mut observe: F,
 ) -> Result<LoopRun, LoopError> {
     let now = Instant::now();
     let blank = Frame {
-        mesh: Mesh::new(spec.grid),
+        mesh: spec.blank_mesh(),
         index: None,
         step_ns: 0,
         started: now,
@@ -75,14 +75,14 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
                     if shared.done.load(Ordering::Acquire) {
                         break;
                     }
-                    produce(&spec, j, &mut ocean, &mut *input);
+                    produce(&spec, j, &mut *ocean, &mut *input);
                     shared.published.store(j + 1, Ordering::Release);
                 }
                 Ok(())
             }
         })
     };
-    let mut render = Mesh::new(spec.grid);
+    let mut render = spec.blank_mesh();
     let mut last = None;
     drive(spec, budget, start, |frames, shared| {
         consume(
@@ -98,7 +98,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
 }
 
 /// The helper's frame j: computed into the buffer it holds, then published.
-fn produce(spec: &LoopSpec, j: u64, ocean: &mut Ocean, input: &mut dyn MailboxIn<Frame>) {
+fn produce(spec: &LoopSpec, j: u64, ocean: &mut dyn Stepper, input: &mut dyn MailboxIn<Frame>) {
     spec.stall_at(j);
     let frame = input.buffer();
     frame.started = Instant::now();

@@ -22,7 +22,7 @@ pub use consume::{read, Consume, ReadPass};
 use crate::affinity::{self, Pin};
 use crate::input::InputError;
 use crate::measure::Trial;
-use crate::ocean::{Grid, Kernel, Mesh, NormalMethod, Ocean, WaveSet};
+use crate::ocean::{Grid, Kernel, Mesh, Model, NormalMethod, OceanKind, WaveSet};
 use crate::sched::{self, ThreadCounters, ThreadNoise, TrialNoise};
 use crate::sync::{Policy, SyncMethod};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -66,6 +66,8 @@ crate::named! {
 pub struct LoopSpec {
     /// The mesh grid.
     pub grid: Grid,
+    /// Which ocean model the helper computes.
+    pub ocean: OceanKind,
     /// The waves summed.
     pub waves: WaveSet,
     /// How normals are computed.
@@ -117,6 +119,7 @@ impl LoopSpec {
             self.helpers(),
             self.mode,
             self.threading,
+            self.ocean.model(),
             self.normals,
             self.grid.n,
         )?;
@@ -128,6 +131,11 @@ impl LoopSpec {
             self.helpers(),
             self.threading,
         )
+    }
+
+    /// A blank mesh with the fields the cell's model fills: every slot and render buffer.
+    fn blank_mesh(&self) -> Mesh {
+        self.ocean.model().mesh(self.grid)
     }
 
     fn stopped(&self) -> bool {
@@ -227,12 +235,14 @@ pub fn check_policy(
     Ok(())
 }
 
-/// Refuses a helper count the loops cannot run, naming why; shared by configs, flags and
-/// `run` so every entry point gives the same message.
+/// Refuses a helper count the loops cannot run, naming why: whether rows split with these
+/// normals is the `model`'s to say. Shared by configs, flags and `run` so every entry point
+/// gives the same message.
 pub fn check_helpers(
     helpers: usize,
     mode: Mode,
     threading: Threading,
+    model: &dyn Model,
     normals: NormalMethod,
     size: usize,
 ) -> Result<(), InputError> {
@@ -255,7 +265,7 @@ pub fn check_helpers(
             "helpers: {helpers} helpers need at least one row each; size {size} has {size} rows"
         )));
     }
-    Ocean::splits_into_rows(normals)
+    model.splits_into_rows(normals)
 }
 
 /// The cores of `helpers` helper threads: none in `serial`; in `up` they share the main core;
@@ -441,7 +451,10 @@ where
     F: FnMut(u64, &Mesh) + Send,
 {
     spec.check()?;
-    let ocean = Ocean::new(spec.grid, spec.waves.clone(), spec.normals, spec.kernel)?;
+    let ocean = spec
+        .ocean
+        .model()
+        .prepare(spec.grid, &spec.waves, spec.normals, spec.kernel)?;
     std::thread::scope(|s| {
         std::thread::Builder::new()
             .name("ocean-main".into())

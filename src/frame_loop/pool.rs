@@ -7,7 +7,7 @@ use super::slots::{consume, produce, timed, Shared};
 use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
 use crate::affinity::{self, Pin};
 use crate::measure::FrameRecord;
-use crate::ocean::{Mesh, Ocean};
+use crate::ocean::{Mesh, Stepper};
 use crate::sched::ThreadNoise;
 use crate::sync::Free;
 use std::convert::Infallible;
@@ -138,10 +138,10 @@ pub(super) fn drive<S: Stop>(
 pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
-    ocean: Ocean,
+    ocean: Box<dyn Stepper>,
     mut observe: F,
 ) -> Result<LoopRun, LoopError> {
-    // Each helper gets its own `Ocean`: the fast kernel keeps per-band tables in it.
+    // Each helper gets its own stepper: the fast kernel keeps per-band tables in it.
     let start = || {
         Helpers::start(spec, Shared::new(spec), |h, shared| {
             let (shared, spec, mut ocean) = (Arc::clone(shared), spec.clone(), ocean.clone());
@@ -150,7 +150,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
                 for k in 0.. {
                     let (free, waited) = timed(|| handoff.wait_free(Instant::now() + spec.timeout));
                     match free {
-                        Ok(Free::Slot) => produce(&spec, k, &mut ocean, &shared, h, waited),
+                        Ok(Free::Slot) => produce(&spec, k, &mut *ocean, &shared, h, waited),
                         Ok(Free::Shutdown) => break,
                         Err(_) => return Err(spec.stalled("the helper (waiting for a free slot)")),
                     }
@@ -159,7 +159,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
             }
         })
     };
-    let mut render = Mesh::new(spec.grid);
+    let mut render = spec.blank_mesh();
     let mut held = 0;
     drive(spec, budget, start, |frames, shared| {
         consume(spec, frames, shared, &mut render, &mut held, &mut observe)

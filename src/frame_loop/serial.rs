@@ -7,20 +7,20 @@ use super::slots::ns;
 use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
 use crate::affinity;
 use crate::measure::FrameRecord;
-use crate::ocean::{Mesh, Ocean};
+use crate::ocean::{Mesh, Stepper};
 use std::time::Instant;
 
 /// Runs the loop on the calling thread until the budget is met.
 pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
-    mut ocean: Ocean,
+    mut ocean: Box<dyn Stepper>,
     mut observe: F,
 ) -> Result<LoopRun, LoopError> {
     let main_pin = affinity::pin_current(spec.main_core);
     let (cores, main) = (CoreWatch::start(spec), ThreadWatch::start(spec.main_core));
-    let mut mesh = Mesh::new(spec.grid);
-    let mut render = Mesh::new(spec.grid);
+    let mut mesh = spec.blank_mesh();
+    let mut render = spec.blank_mesh();
     let mut frames = FrameCounter::new(budget);
     loop {
         let k = frames.frame;

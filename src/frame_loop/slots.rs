@@ -11,7 +11,7 @@ use super::consume::{self, Consume};
 use super::frames::FrameCounter;
 use super::{LoopError, LoopSpec};
 use crate::measure::FrameRecord;
-use crate::ocean::{Grid, Mesh, MeshRows, Ocean};
+use crate::ocean::{Grid, Mesh, MeshRows, Stepper};
 use crate::sched;
 use crate::sync::{Handoff, Slot};
 use std::cell::UnsafeCell;
@@ -61,6 +61,8 @@ pub(super) struct Part {
 struct MeshSlot {
     mesh: UnsafeCell<Mesh>,
     base: [*mut f32; 6],
+    /// The fold fields' base pointers, when the model's meshes carry them.
+    fold: Option<[*mut f32; 3]>,
 }
 
 /// The ring of `depth` meshes, each split among the helpers in bands of whole rows, with one
@@ -84,7 +86,12 @@ impl Shared {
         let depth = spec.depth.max(1);
         let slots = (0..depth)
             .map(|_| {
-                let mut mesh = Mesh::new(spec.grid);
+                let mut mesh = spec.blank_mesh();
+                let fold = mesh.has_fold().then_some([
+                    mesh.fold.as_mut_ptr(),
+                    mesh.fold_dx.as_mut_ptr(),
+                    mesh.fold_dy.as_mut_ptr(),
+                ]);
                 let base = [
                     mesh.x.as_mut_ptr(),
                     mesh.y.as_mut_ptr(),
@@ -96,6 +103,7 @@ impl Shared {
                 MeshSlot {
                     mesh: UnsafeCell::new(mesh),
                     base,
+                    fold,
                 }
             })
             .collect();
@@ -139,21 +147,24 @@ impl Shared {
         let grid = self.grid();
         let rows = self.parts[k].rows.clone();
         let (start, len) = (rows.start * grid.n, rows.len() * grid.n);
-        let base = &self.slots[s].base;
-        // SAFETY: `start + len` is within the mesh's N² elements; x and y are never written,
-        // and the z..nz rows of different helpers do not overlap (bands partition the rows).
+        let (base, fold) = (&self.slots[s].base, self.slots[s].fold);
+        // SAFETY: `start + len` is within the mesh's N² elements of every field the mesh
+        // carries, and the rows of different helpers do not overlap (bands partition the rows).
         unsafe {
-            let read = |p: *mut f32| std::slice::from_raw_parts(p.add(start), len);
             let write = |p: *mut f32| std::slice::from_raw_parts_mut(p.add(start), len);
+            let optional = |k: usize| fold.map_or(&mut [][..], |f| write(f[k]));
             MeshRows {
                 grid,
                 first_row: rows.start,
-                x: read(base[0]),
-                y: read(base[1]),
+                x: write(base[0]),
+                y: write(base[1]),
                 z: write(base[2]),
                 nx: write(base[3]),
                 ny: write(base[4]),
                 nz: write(base[5]),
+                fold: optional(0),
+                fold_dx: optional(1),
+                fold_dy: optional(2),
             }
         }
     }
@@ -169,7 +180,7 @@ impl Shared {
 pub(super) fn produce(
     spec: &LoopSpec,
     k: u64,
-    ocean: &mut Ocean,
+    ocean: &mut dyn Stepper,
     shared: &Shared,
     h: usize,
     waited: Waited,

@@ -5,7 +5,7 @@ use super::frames::FrameCounter;
 use super::slots::{consume, produce, timed, Shared};
 use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
 use crate::affinity::{self, Pin};
-use crate::ocean::{Mesh, Ocean};
+use crate::ocean::{Mesh, Stepper};
 use crate::sched::ThreadNoise;
 use crate::sync::Free;
 use std::sync::Arc;
@@ -15,7 +15,7 @@ use std::time::Instant;
 pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
-    ocean: Ocean,
+    ocean: Box<dyn Stepper>,
     mut observe: F,
 ) -> Result<LoopRun, LoopError> {
     let main_pin = affinity::pin_current(spec.main_core);
@@ -29,7 +29,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
         core,
         ..ThreadNoise::default()
     };
-    let mut render = Mesh::new(spec.grid);
+    let mut render = spec.blank_mesh();
     let mut frames = FrameCounter::new(budget);
     let mut held = 0;
     loop {
@@ -52,7 +52,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
                             .wait_free(Instant::now() + spec.timeout)
                     });
                     if free == Ok(Free::Slot) {
-                        produce(&spec, k, &mut ocean, &shared, 0, waited);
+                        produce(&spec, k, &mut *ocean, &shared, 0, waited);
                     }
                     (ocean, pin, watch.stop(String::new()))
                 })

@@ -11,8 +11,8 @@ mod vector;
 pub use simd::Isa;
 pub use stencil::StencilNormals;
 
-use super::mesh::{Mesh, MeshRows};
-use super::waves::WaveSet;
+use crate::ocean::mesh::{Mesh, MeshRows};
+use crate::ocean::waves::WaveSet;
 use phase::{Tables, WaveConsts};
 
 /// Which row loop a fast kernel runs.

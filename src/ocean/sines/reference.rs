@@ -1,8 +1,8 @@
 //! The reference kernel: a straight port of the paper's `TakeStepSumOfWavesWithExp` (section 4.2),
 //! per vertex and per wave, `sin` and `powf` in f32. It is kept as the oracle for faster kernels.
 
-use super::mesh::{Mesh, MeshRows};
-use super::waves::WaveSet;
+use crate::ocean::mesh::{Mesh, MeshRows};
+use crate::ocean::waves::WaveSet;
 use std::f32::consts::PI;
 
 /// Fills `mesh.z` for time `t`, and the normals from the partial derivatives of section 3.5 when

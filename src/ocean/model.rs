@@ -1,0 +1,73 @@
+//! The seam between the frame loops and what the helper computes: an ocean [`Model`] says what
+//! it offers, validates its own parameters and builds, once per run, the [`Stepper`] that fills
+//! a mesh (or one band of its rows) for a time t.
+
+use super::mesh::{Grid, Mesh, MeshRows};
+use super::normals::NormalMethod;
+use super::waves::WaveSet;
+use crate::input::InputError;
+
+crate::named! {
+    /// Which implementation of a model fills heights (and analytic normals).
+    pub enum Kernel {
+        /// The straight port of section 4.2, kept as the oracle.
+        Reference,
+        /// Separable phase tables, half-angle powers and run-time selected vector code; the same
+        /// surface as `Reference`.
+        Fast,
+    }
+}
+
+/// What the helper computes each frame. Implementations are stateless descriptions; the
+/// per-run state lives in the [`Stepper`] that [`Model::prepare`] builds.
+pub trait Model: Sync {
+    /// The kernels it runs, in the order it lists them.
+    fn kernels(&self) -> &'static [Kernel];
+
+    /// The normal methods it offers.
+    fn normals(&self) -> &'static [NormalMethod];
+
+    /// Whether several helpers can each fill a band of rows alone with `normals`; the error, one
+    /// line under the `helpers` field, says why not.
+    fn splits_into_rows(&self, normals: NormalMethod) -> Result<(), InputError>;
+
+    /// Refuses parameters it cannot run at mesh size `size` (one line naming the field).
+    fn check(&self, size: usize, normals: NormalMethod) -> Result<(), InputError>;
+
+    /// The kernel and normals whose step is the yardstick `step_fraction` levels are given in.
+    fn yardstick(&self) -> (Kernel, NormalMethod);
+
+    /// A blank mesh with the optional fields this model fills (none unless it says so).
+    fn mesh(&self, grid: Grid) -> Mesh {
+        Mesh::new(grid)
+    }
+
+    /// Builds the per-run state for `grid`, after [`Model::check`].
+    fn prepare(
+        &self,
+        grid: Grid,
+        waves: &WaveSet,
+        normals: NormalMethod,
+        kernel: Kernel,
+    ) -> Result<Box<dyn Stepper>, InputError>;
+}
+
+/// A model's per-run state, owned by the thread that steps it. Each helper gets its own clone:
+/// a kernel may keep tables for the band it fills.
+pub trait Stepper: Send + std::fmt::Debug {
+    /// Fills the whole mesh at time `t`.
+    fn step(&mut self, t: f32, mesh: &mut Mesh);
+
+    /// Fills one band of rows at time `t`, bit-identical to the same rows of [`Stepper::step`];
+    /// only for the normal methods [`Model::splits_into_rows`] accepts.
+    fn step_rows(&mut self, t: f32, rows: MeshRows<'_>);
+
+    /// A copy of this state for another helper.
+    fn boxed_clone(&self) -> Box<dyn Stepper>;
+}
+
+impl Clone for Box<dyn Stepper> {
+    fn clone(&self) -> Self {
+        self.boxed_clone()
+    }
+}

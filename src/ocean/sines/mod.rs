@@ -1,0 +1,146 @@
+//! The paper's ocean: a sum of sine waves with exponent (section 4.2), its heights from the
+//! reference or the fast kernel, its normals by any of the three methods.
+
+pub mod fast;
+pub mod reference;
+
+use super::mesh::{Grid, Mesh, MeshRows};
+use super::model::{Kernel, Model, Stepper};
+use super::normals::{self, FaceNormals, NormalMethod};
+use super::waves::WaveSet;
+use crate::input::InputError;
+
+/// The sum-of-sines model.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Sines;
+
+impl Model for Sines {
+    fn kernels(&self) -> &'static [Kernel] {
+        &[Kernel::Reference, Kernel::Fast]
+    }
+
+    fn normals(&self) -> &'static [NormalMethod] {
+        &[
+            NormalMethod::Lookup,
+            NormalMethod::Neighbors,
+            NormalMethod::Analytic,
+        ]
+    }
+
+    /// Only analytic normals are a function of the vertex's own x, y and t; face normals need
+    /// the heights of the rows next to a band.
+    fn splits_into_rows(&self, normals: NormalMethod) -> Result<(), InputError> {
+        match normals {
+            NormalMethod::Analytic => Ok(()),
+            other => Err(InputError(format!(
+                "helpers: more than one helper needs normals `analytic`; `{}` normals at a \
+                 band's edge need the neighbouring band's heights (not supported yet)",
+                other.name()
+            ))),
+        }
+    }
+
+    /// Refuses `lookup` on grids where one frame would take over a second.
+    fn check(&self, size: usize, normals: NormalMethod) -> Result<(), InputError> {
+        if normals == NormalMethod::Lookup && normals::lookup_work(size) > normals::LOOKUP_MAX_WORK
+        {
+            return Err(InputError(format!(
+                "normals: `lookup` is O(n²) in vertices and would take over a second per frame at \
+                 size {size}; use size <= {} or normals `neighbors`/`analytic`",
+                normals::lookup_max_size()
+            )));
+        }
+        Ok(())
+    }
+
+    /// The paper's build: the reference kernel with the neighbour list.
+    fn yardstick(&self) -> (Kernel, NormalMethod) {
+        (Kernel::Reference, NormalMethod::Neighbors)
+    }
+
+    fn prepare(
+        &self,
+        grid: Grid,
+        waves: &WaveSet,
+        normals: NormalMethod,
+        kernel: Kernel,
+    ) -> Result<Box<dyn Stepper>, InputError> {
+        self.check(grid.n, normals)?;
+        Ok(Box::new(SinesState::new(
+            grid,
+            waves.clone(),
+            normals,
+            kernel,
+        )))
+    }
+}
+
+/// Everything needed to compute one frame's mesh: waves, normal method, kernel and the
+/// precomputed topology.
+#[derive(Clone, Debug)]
+pub struct SinesState {
+    waves: WaveSet,
+    normals: NormalMethod,
+    kernel: Kernel,
+    faces: Option<FaceNormals>,
+    fast: Option<fast::FastKernel>,
+    stencil: Option<fast::StencilNormals>,
+}
+
+impl SinesState {
+    fn new(grid: Grid, waves: WaveSet, normals: NormalMethod, kernel: Kernel) -> Self {
+        // The fast kernel replaces the gathered neighbour list with a stencil; `lookup` stays
+        // the paper's method whichever kernel runs.
+        let stencil_normals = kernel == Kernel::Fast && normals == NormalMethod::Neighbors;
+        let faces =
+            (normals != NormalMethod::Analytic && !stencil_normals).then(|| FaceNormals::new(grid));
+        let stencil = stencil_normals.then(fast::StencilNormals::new);
+        let fast = (kernel == Kernel::Fast).then(|| fast::FastKernel::new(&waves));
+        SinesState {
+            waves,
+            normals,
+            kernel,
+            faces,
+            fast,
+            stencil,
+        }
+    }
+
+    /// The kernel's part of a step: heights, and the normals too when they are analytic.
+    fn heights(&mut self, t: f32, rows: MeshRows<'_>) {
+        let analytic = self.normals == NormalMethod::Analytic;
+        match self.kernel {
+            Kernel::Reference => reference::step_rows(&self.waves, rows, t, analytic),
+            Kernel::Fast => {
+                let fast = self.fast.as_mut().expect("built for Kernel::Fast");
+                fast.step_rows(rows, t, analytic);
+            }
+        }
+    }
+}
+
+impl Stepper for SinesState {
+    fn step(&mut self, t: f32, mesh: &mut Mesh) {
+        let n = mesh.grid.n;
+        self.heights(t, mesh.rows_mut(0..n));
+        if let Some(faces) = &mut self.faces {
+            faces.compute(mesh, self.normals);
+        }
+        if let Some(stencil) = &mut self.stencil {
+            stencil.compute(mesh);
+        }
+    }
+
+    fn step_rows(&mut self, t: f32, rows: MeshRows<'_>) {
+        assert_eq!(
+            self.normals,
+            NormalMethod::Analytic,
+            "step_rows needs analytic normals"
+        );
+        self.heights(t, rows);
+    }
+
+    fn boxed_clone(&self) -> Box<dyn Stepper> {
+        Box::new(self.clone())
+    }
+}
