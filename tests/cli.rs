@@ -41,6 +41,21 @@ fn bad_flags_exit_2_with_one_line() {
     assert_input_error(&["run", "--mode", "tri"], &["--mode", "serial, up, dp"]);
     assert_input_error(&["run", "--sync", "futexes"], &["--sync", "futex"]);
     assert_input_error(&["run", "--normals", "x"], &["lookup, neighbors, analytic"]);
+    assert_input_error(&["run", "--ocean", "nope"], &["--ocean", "nope", "sines"]);
+    assert_input_error(
+        &[
+            "mesh",
+            "--size",
+            "4",
+            "--time",
+            "1",
+            "--ocean",
+            "nope",
+            "--out",
+            "/tmp/x.csv",
+        ],
+        &["--ocean", "nope", "sines"],
+    );
     assert_input_error(&["run", "--size", "1"], &["size", "2 to"]);
     assert_input_error(&["run", "--size", "abc"], &["--size"]);
     assert_input_error(&["run", "--workload", "9"], &["workloads", "0 to 3"]);
@@ -95,6 +110,8 @@ fn bad_configs_exit_2_naming_the_field() {
             vec!["waves[0].wavelength"],
         ),
         (r#"{"sync": ["atomic", "atomic"]}"#, vec!["sync", "twice"]),
+        (r#"{"ocean": ["fft"]}"#, vec!["ocean[0]", "fft", "sines"]),
+        (r#"{"ocean": ["sines", "sines"]}"#, vec!["ocean", "twice"]),
         (r#"{"cores": [0, 0]}"#, vec!["cores", "two different"]),
         (r#"[1, 2]"#, vec!["must be a JSON object"]),
         (r#"{"sizes": [40"#, vec!["not valid JSON"]),

@@ -38,13 +38,14 @@ fn junk() -> impl Strategy<Value = String> {
 }
 
 /// The fields a junk value replaces, one by one ("sizez" is a misspelt key).
-const FIELDS: [&str; 20] = [
+const FIELDS: [&str; 21] = [
     "sizes",
     "workloads",
     "modes",
     "sync",
     "threading",
     "normals",
+    "ocean",
     "kernel",
     "trials",
     "min_frames",
@@ -152,7 +153,7 @@ proptest! {
     fn random_command_lines_never_panic(
         words in prop::collection::vec(prop::sample::select(vec![
             "run", "sweep", "mesh", "chart", "compare", "latency", "--size", "--mode", "--sync",
-            "--normals", "--kernel", "--workload", "--cores", "--frames", "--seconds", "--trials",
+            "--normals", "--ocean", "--kernel", "--workload", "--cores", "--frames", "--seconds", "--trials",
             "--out", "--by", "--baseline", "--threshold", "--format", "--time", "up", "dp",
             "spin", "0", "-1", "1,2,3", "x", "", "--", "--help-me", "1e9", "nan",
         ]), 0..8),

@@ -58,7 +58,8 @@ impl ReadPass {
     }
 }
 
-/// Reads every vertex and normal of `mesh` once.
+/// Reads every vertex, normal and optional field of `mesh` once (an empty field adds nothing, so
+/// a mesh without them sums as before they existed).
 pub fn read(mesh: &Mesh) -> ReadPass {
     let extent = |v: &[f32]| {
         v.iter()
@@ -67,10 +68,20 @@ pub fn read(mesh: &Mesh) -> ReadPass {
             })
     };
     let (x, y, z) = (extent(&mesh.x), extent(&mesh.y), extent(&mesh.z));
-    let checksum = [&mesh.x, &mesh.y, &mesh.z, &mesh.nx, &mesh.ny, &mesh.nz]
-        .iter()
-        .flat_map(|a| a.iter())
-        .fold(0u64, |sum, v| sum.wrapping_add(u64::from(v.to_bits())));
+    let checksum = [
+        &mesh.x,
+        &mesh.y,
+        &mesh.z,
+        &mesh.nx,
+        &mesh.ny,
+        &mesh.nz,
+        &mesh.fold,
+        &mesh.fold_dx,
+        &mesh.fold_dy,
+    ]
+    .iter()
+    .flat_map(|a| a.iter())
+    .fold(0u64, |sum, v| sum.wrapping_add(u64::from(v.to_bits())));
     std::hint::black_box(ReadPass {
         min: [x.0, y.0, z.0],
         max: [x.1, y.1, z.1],
@@ -93,5 +104,29 @@ mod tests {
         let b = read(&mesh);
         assert_ne!(a.checksum, b.checksum);
         assert_ne!(a.folded(), b.folded());
+    }
+
+    #[test]
+    fn copy_and_read_see_the_fold_fields_when_present() {
+        let grid = Grid::new(3, 1.0).unwrap();
+        let plain = read(&Mesh::new(grid));
+        let mut mesh = Mesh::new(grid).with_fold();
+        let unfolded = read(&mesh);
+        assert_ne!(plain.checksum, unfolded.checksum, "J = 1 is read");
+        for (field, at) in [(0, 2), (1, 5), (2, 7)] {
+            let mut folded = mesh.clone();
+            [&mut folded.fold, &mut folded.fold_dx, &mut folded.fold_dy][field][at] = 0.5;
+            assert_ne!(read(&folded).checksum, unfolded.checksum, "field {field}");
+        }
+        mesh.fold[4] = -0.25;
+        mesh.fold_dx[4] = 0.6;
+        mesh.fold_dy[4] = 0.8;
+        let mut render = Mesh::new(grid).with_fold();
+        let (copied, _) = apply(Consume::Copy, &mesh, &mut render);
+        assert_eq!(copied, &mesh);
+        assert_eq!(
+            (render.fold[4], render.fold_dx[4], render.fold_dy[4]),
+            (-0.25, 0.6, 0.8)
+        );
     }
 }

@@ -65,6 +65,59 @@ struct MeshSlot {
     fold: Option<[*mut f32; 3]>,
 }
 
+impl MeshSlot {
+    fn new(mut mesh: Mesh) -> MeshSlot {
+        let fold = mesh.has_fold().then_some([
+            mesh.fold.as_mut_ptr(),
+            mesh.fold_dx.as_mut_ptr(),
+            mesh.fold_dy.as_mut_ptr(),
+        ]);
+        let base = [
+            mesh.x.as_mut_ptr(),
+            mesh.y.as_mut_ptr(),
+            mesh.z.as_mut_ptr(),
+            mesh.nx.as_mut_ptr(),
+            mesh.ny.as_mut_ptr(),
+            mesh.nz.as_mut_ptr(),
+        ];
+        MeshSlot {
+            mesh: UnsafeCell::new(mesh),
+            base,
+            fold,
+        }
+    }
+
+    /// The band `rows` of this slot's mesh of `grid`, every field it carries.
+    ///
+    /// # Safety
+    /// No other reference to these rows of the mesh is alive while the band is.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn rows(&self, grid: Grid, rows: Range<usize>) -> MeshRows<'_> {
+        assert!(rows.end <= grid.n, "rows {rows:?} outside 0..{}", grid.n);
+        let (start, len) = (rows.start * grid.n, rows.len() * grid.n);
+        let (base, fold) = (&self.base, self.fold);
+        // SAFETY: `start + len` is within the mesh's N² elements of every field the mesh
+        // carries, and the caller holds no other reference to these rows.
+        unsafe {
+            let write = |p: *mut f32| std::slice::from_raw_parts_mut(p.add(start), len);
+            let optional = |k: usize| fold.map_or(&mut [][..], |f| write(f[k]));
+            MeshRows {
+                grid,
+                first_row: rows.start,
+                x: write(base[0]),
+                y: write(base[1]),
+                z: write(base[2]),
+                nx: write(base[3]),
+                ny: write(base[4]),
+                nz: write(base[5]),
+                fold: optional(0),
+                fold_dx: optional(1),
+                fold_dy: optional(2),
+            }
+        }
+    }
+}
+
 /// The ring of `depth` meshes, each split among the helpers in bands of whole rows, with one
 /// ring hand-off per helper (so every sync method works unchanged for any helper count).
 pub(super) struct Shared {
@@ -85,27 +138,7 @@ impl Shared {
     pub fn new(spec: &LoopSpec) -> Shared {
         let depth = spec.depth.max(1);
         let slots = (0..depth)
-            .map(|_| {
-                let mut mesh = spec.blank_mesh();
-                let fold = mesh.has_fold().then_some([
-                    mesh.fold.as_mut_ptr(),
-                    mesh.fold_dx.as_mut_ptr(),
-                    mesh.fold_dy.as_mut_ptr(),
-                ]);
-                let base = [
-                    mesh.x.as_mut_ptr(),
-                    mesh.y.as_mut_ptr(),
-                    mesh.z.as_mut_ptr(),
-                    mesh.nx.as_mut_ptr(),
-                    mesh.ny.as_mut_ptr(),
-                    mesh.nz.as_mut_ptr(),
-                ];
-                MeshSlot {
-                    mesh: UnsafeCell::new(mesh),
-                    base,
-                    fold,
-                }
-            })
+            .map(|_| MeshSlot::new(spec.blank_mesh()))
             .collect();
         let now = Instant::now();
         let blank = Stamp {
@@ -144,29 +177,9 @@ impl Shared {
     /// lone helper uses the whole mesh), so only disjoint bands are alive.
     #[allow(clippy::mut_from_ref)]
     unsafe fn band(&self, s: usize, k: usize) -> MeshRows<'_> {
-        let grid = self.grid();
         let rows = self.parts[k].rows.clone();
-        let (start, len) = (rows.start * grid.n, rows.len() * grid.n);
-        let (base, fold) = (&self.slots[s].base, self.slots[s].fold);
-        // SAFETY: `start + len` is within the mesh's N² elements of every field the mesh
-        // carries, and the rows of different helpers do not overlap (bands partition the rows).
-        unsafe {
-            let write = |p: *mut f32| std::slice::from_raw_parts_mut(p.add(start), len);
-            let optional = |k: usize| fold.map_or(&mut [][..], |f| write(f[k]));
-            MeshRows {
-                grid,
-                first_row: rows.start,
-                x: write(base[0]),
-                y: write(base[1]),
-                z: write(base[2]),
-                nx: write(base[3]),
-                ny: write(base[4]),
-                nz: write(base[5]),
-                fold: optional(0),
-                fold_dx: optional(1),
-                fold_dy: optional(2),
-            }
-        }
+        // SAFETY: bands partition the rows, and the caller's ring gave it this slot.
+        unsafe { self.slots[s].rows(self.grid(), rows) }
     }
 
     fn grid(&self) -> Grid {
@@ -314,4 +327,47 @@ const STOP_CHECK: Duration = Duration::from_millis(50);
 /// Nanoseconds of a duration, as frame records keep them.
 pub(super) fn ns(d: Duration) -> u64 {
     d.as_nanos() as u64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bands_of_a_slot_reach_their_own_rows_of_every_field() {
+        let grid = Grid::new(4, 1.0).unwrap();
+        for fold in [false, true] {
+            let mesh = Mesh::new(grid);
+            let slot = MeshSlot::new(if fold { mesh.with_fold() } else { mesh });
+            // SAFETY: the two bands are disjoint and nothing else touches the mesh meanwhile.
+            let (a, b) = unsafe { (slot.rows(grid, 0..1), slot.rows(grid, 1..4)) };
+            assert_eq!((a.first_row, a.rows(), b.first_row, b.rows()), (0, 1, 1, 3));
+            assert_eq!(
+                (a.fold.len(), b.fold_dy.len()),
+                if fold { (4, 12) } else { (0, 0) }
+            );
+            for (band, value) in [(a, 1.0), (b, 2.0)] {
+                for field in [band.x, band.y, band.z, band.nx, band.ny, band.nz] {
+                    field.fill(value);
+                }
+                for field in [band.fold, band.fold_dx, band.fold_dy] {
+                    field.fill(value);
+                }
+            }
+            let mesh = slot.mesh.into_inner();
+            let want = |v: usize| if v < 4 { 1.0 } else { 2.0 };
+            let fields = [&mesh.x, &mesh.y, &mesh.z, &mesh.nx, &mesh.ny, &mesh.nz];
+            let optional = [&mesh.fold, &mesh.fold_dx, &mesh.fold_dy];
+            for field in fields
+                .into_iter()
+                .chain(fold.then_some(optional).into_iter().flatten())
+            {
+                assert!(
+                    field.iter().enumerate().all(|(v, &x)| x == want(v)),
+                    "{field:?}"
+                );
+            }
+            assert_eq!(mesh.has_fold(), fold);
+        }
+    }
 }

@@ -221,3 +221,42 @@ impl MeshRows<'_> {
         self.z.len() / self.grid.n
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bands_and_copies_carry_the_fold_fields_only_when_present() {
+        let grid = Grid::new(4, 1.0).unwrap();
+        let mut plain = Mesh::new(grid);
+        let band = plain.rows_mut(1..3);
+        assert_eq!(band.z.len(), 8);
+        assert!(band.fold.is_empty() && band.fold_dx.is_empty() && band.fold_dy.is_empty());
+
+        let mut mesh = Mesh::new(grid).with_fold();
+        assert!(mesh.has_fold() && !plain.has_fold());
+        let band = mesh.rows_mut(1..3);
+        assert_eq!(
+            (band.fold.len(), band.fold_dx.len(), band.fold_dy.len()),
+            (8, 8, 8)
+        );
+        band.fold[0] = 0.5;
+        band.fold_dx[7] = -1.0;
+        band.fold_dy[3] = 2.0;
+        band.x[0] = 9.0;
+        assert_eq!(
+            mesh.fold[4], 0.5,
+            "the band's first vertex is row 1's first"
+        );
+        assert_eq!(mesh.fold_dx[11], -1.0);
+        assert_eq!(mesh.fold_dy[7], 2.0);
+        assert_eq!(mesh.x[4], 9.0, "a model may displace x");
+
+        let mut copy = Mesh::new(grid).with_fold();
+        copy.copy_from(&mesh);
+        assert_eq!(copy, mesh);
+        plain.copy_from(&Mesh::new(grid));
+        assert!(!plain.has_fold());
+    }
+}

@@ -144,3 +144,24 @@ impl Stepper for SinesState {
         Box::new(self.clone())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sines_moves_no_vertex_and_leaves_the_fold_fields_empty() {
+        let grid = Grid::new(8, 0.5).unwrap();
+        for kernel in [Kernel::Reference, Kernel::Fast] {
+            let mut mesh = Sines.mesh(grid);
+            let mut state = Sines
+                .prepare(grid, &WaveSet::default(), NormalMethod::Analytic, kernel)
+                .unwrap();
+            state.step(2.0, &mut mesh);
+            let rest = Mesh::new(grid);
+            assert_ne!(mesh.z, rest.z, "{kernel}: the step ran");
+            assert_eq!((&mesh.x, &mesh.y), (&rest.x, &rest.y), "{kernel}");
+            assert!(!mesh.has_fold(), "{kernel}");
+        }
+    }
+}
