@@ -122,6 +122,21 @@ fn results(config: SweepConfig, cells: Vec<Cell>) -> Results {
     }
 }
 
+/// The values of `dim`'s column in results.csv, one per cell.
+fn csv_column(r: &Results, dim: Dim) -> Vec<String> {
+    let text = csv::to_string(r).unwrap();
+    let mut reader = ::csv::Reader::from_reader(text.as_bytes());
+    let header = reader.headers().unwrap().clone();
+    let column = header
+        .iter()
+        .position(|h| h == dim.name())
+        .unwrap_or_else(|| panic!("no {dim} column in {header:?}"));
+    reader
+        .records()
+        .map(|r| r.unwrap()[column].to_string())
+        .collect()
+}
+
 #[test]
 fn every_dimension_has_test_values() {
     for &dim in Dim::ALL {
@@ -148,15 +163,7 @@ fn every_value_reaches_csv_json_labels_and_compare() {
         let value = key.get(dim).unwrap();
         let r = results(config, vec![cell(key.clone(), 125.0)]);
 
-        let text = csv::to_string(&r).unwrap();
-        let mut reader = ::csv::Reader::from_reader(text.as_bytes());
-        let header = reader.headers().unwrap().clone();
-        let column = header
-            .iter()
-            .position(|h| h == dim.name())
-            .unwrap_or_else(|| panic!("no {dim} column in {header:?}"));
-        let row = reader.records().next().unwrap().unwrap();
-        assert_eq!(row[column], value.to_string(), "{dim}");
+        assert_eq!(csv_column(&r, dim), [value.to_string()], "{dim}");
 
         let json: serde_json::Value =
             serde_json::from_str(&oceanbench::report::json::to_string(&r).unwrap()).unwrap();
@@ -223,17 +230,7 @@ fn every_dimension_is_expanded_labelled_and_written_to_csv() {
             config(dim),
             vec![cell(a.clone(), 125.0), cell(b.clone(), 250.0)],
         );
-        let text = csv::to_string(&r).unwrap();
-        let mut reader = ::csv::Reader::from_reader(text.as_bytes());
-        let header = reader.headers().unwrap().clone();
-        let column = header
-            .iter()
-            .position(|h| h == dim.name())
-            .unwrap_or_else(|| panic!("no {dim} column in {header:?}"));
-        let values: Vec<String> = reader
-            .records()
-            .map(|r| r.unwrap()[column].to_string())
-            .collect();
+        let values = csv_column(&r, dim);
         let want: Vec<String> = [&a, &b]
             .iter()
             .map(|k| k.get(dim).unwrap().to_string())

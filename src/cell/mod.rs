@@ -15,7 +15,7 @@ pub use declare::{DimValue, Value};
 
 use crate::frame_loop::{self, Consume, Mode, Threading, MAX_DEPTH, MAX_HELPERS};
 use crate::input::InputError;
-use crate::ocean::{mesh::MAX_SIZE, Kernel, NormalMethod, OceanKind};
+use crate::ocean::{mesh::MAX_SIZE, Kernel, Model, NormalMethod, OceanKind};
 use crate::sync::{Policy, SyncMethod};
 use declare::{dim_values, dimensions};
 use itertools::Itertools;
@@ -164,6 +164,30 @@ fn check_helpers(&n: &usize) -> Result<(), InputError> {
     }
 }
 
+/// Refuses a kernel or normal method the `ocean`'s model does not offer.
+fn check_offers(
+    ocean: OceanKind,
+    model: &dyn Model,
+    kernel: Kernel,
+    normals: NormalMethod,
+) -> Result<(), InputError> {
+    let refuse = |key: &str, value: &str, offered: Vec<&str>| {
+        InputError(format!(
+            "{key}: the `{ocean}` ocean offers {}, not `{value}`",
+            offered.join(", ")
+        ))
+    };
+    if !model.kernels().contains(&kernel) {
+        let offered = model.kernels().iter().map(|k| k.name()).collect();
+        return Err(refuse("kernel", kernel.name(), offered));
+    }
+    if !model.normals().contains(&normals) {
+        let offered = model.normals().iter().map(|n| n.name()).collect();
+        return Err(refuse("normals", normals.name(), offered));
+    }
+    Ok(())
+}
+
 /// Whether a cell with this mode is serial: the one rule that decides which dimensions apply.
 fn is_serial(mode: Option<Value>) -> bool {
     mode == Some(Mode::Serial.value())
@@ -228,7 +252,7 @@ impl CellKey {
     /// helper with no ring. The sweep leaves such combinations out of its product; see
     /// [`Axes::check_coverage`].
     pub fn coherent(&self) -> Result<(), InputError> {
-        self.check_offers()?;
+        check_offers(self.ocean, self.ocean.model(), self.kernel, self.normals)?;
         match (
             self.policy,
             self.sync,
@@ -241,27 +265,6 @@ impl CellKey {
             }
             _ => Ok(()),
         }
-    }
-
-    /// Refuses a kernel or normal method the cell's ocean model does not offer.
-    fn check_offers(&self) -> Result<(), InputError> {
-        let model = self.ocean.model();
-        let refuse = |key: &str, value: &str, offered: Vec<&str>| {
-            InputError(format!(
-                "{key}: the `{}` ocean offers {}, not `{value}`",
-                self.ocean,
-                offered.join(", ")
-            ))
-        };
-        if !model.kernels().contains(&self.kernel) {
-            let offered = model.kernels().iter().map(|k| k.name()).collect();
-            return Err(refuse("kernel", self.kernel.name(), offered));
-        }
-        if !model.normals().contains(&self.normals) {
-            let offered = model.normals().iter().map(|n| n.name()).collect();
-            return Err(refuse("normals", self.normals.name(), offered));
-        }
-        Ok(())
     }
 
     /// The values of the row dimensions: cells with equal rows run interleaved.
@@ -341,5 +344,65 @@ impl Axes {
             }
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ocean::{sines::Sines, Grid, Stepper, WaveSet};
+
+    /// A model offering the reference kernel with analytic normals only.
+    struct Narrow;
+
+    impl Model for Narrow {
+        fn kernels(&self) -> &'static [Kernel] {
+            &[Kernel::Reference]
+        }
+        fn normals(&self) -> &'static [NormalMethod] {
+            &[NormalMethod::Analytic]
+        }
+        fn splits_into_rows(&self, normals: NormalMethod) -> Result<(), InputError> {
+            Sines.splits_into_rows(normals)
+        }
+        fn check(&self, size: usize, normals: NormalMethod) -> Result<(), InputError> {
+            Sines.check(size, normals)
+        }
+        fn yardstick(&self) -> (Kernel, NormalMethod) {
+            (Kernel::Reference, NormalMethod::Analytic)
+        }
+        fn prepare(
+            &self,
+            grid: Grid,
+            waves: &WaveSet,
+            normals: NormalMethod,
+            kernel: Kernel,
+        ) -> Result<Box<dyn Stepper>, InputError> {
+            Sines.prepare(grid, waves, normals, kernel)
+        }
+    }
+
+    #[test]
+    fn a_kernel_or_normals_the_model_lacks_is_refused_by_name() {
+        let (r, a) = (Kernel::Reference, NormalMethod::Analytic);
+        let ocean = OceanKind::Sines;
+        assert!(check_offers(ocean, &Narrow, r, a).is_ok());
+        let err = check_offers(ocean, &Narrow, Kernel::Fast, a).unwrap_err().0;
+        assert_eq!(
+            err,
+            "kernel: the `sines` ocean offers reference, not `fast`"
+        );
+        let err = check_offers(ocean, &Narrow, r, NormalMethod::Lookup)
+            .unwrap_err()
+            .0;
+        assert_eq!(
+            err,
+            "normals: the `sines` ocean offers analytic, not `lookup`"
+        );
+        for kernel in [Kernel::Reference, Kernel::Fast] {
+            for normals in [NormalMethod::Lookup, NormalMethod::Neighbors, a] {
+                assert!(check_offers(ocean, ocean.model(), kernel, normals).is_ok());
+            }
+        }
     }
 }
