@@ -21,6 +21,7 @@ fn case(dim: Dim) -> Option<(serde_json::Value, serde_json::Value, serde_json::V
     let (a, b, extra) = match dim {
         Dim::Size => (json!(16), json!(24), json!({})),
         Dim::Workload => (json!(0), json!(1), json!({})),
+        Dim::WorkloadKind => (json!("synthetic"), json!("render"), json!({})),
         Dim::Mode => (json!("up"), json!("dp"), json!({})),
         Dim::Policy => (json!("fifo"), json!("latest"), json!({})),
         Dim::Sync => (json!("atomic"), json!("condvar"), json!({})),
@@ -67,6 +68,8 @@ fn summary(fps: f64) -> Summary {
 
 fn cell(key: CellKey, fps: f64) -> Cell {
     Cell {
+        workload_unit: Some(key.workload_kind.unit().to_string()),
+        workload_amount: Some(0),
         key,
         workload_iterations: 0,
         summary: Some(summary(fps)),

@@ -38,7 +38,7 @@ fn junk() -> impl Strategy<Value = String> {
 }
 
 /// The fields a junk value replaces, one by one ("sizez" is a misspelt key).
-const FIELDS: [&str; 20] = [
+const FIELDS: [&str; 22] = [
     "sizes",
     "workloads",
     "modes",
@@ -58,6 +58,8 @@ const FIELDS: [&str; 20] = [
     "timeout_seconds",
     "cores",
     "warmup_frames",
+    "camera",
+    "workload_kind",
     "sizez",
 ];
 
