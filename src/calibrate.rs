@@ -108,13 +108,26 @@ impl Yardstick {
     }
 }
 
-/// The microseconds a level stands for, with steps from `step_of`.
-pub fn level_micros(level: &Level, step_of: impl Fn(usize) -> Option<f64>) -> f64 {
-    match (level.micros, level.step_fraction, level.size) {
-        (Some(us), _, _) => us,
-        (None, Some(fraction), Some(size)) => {
-            fraction * step_of(size).expect("the level's size was measured") * 1e3
+/// The microseconds a level stands for and the workload iterations it comes to, with steps
+/// from `step_of` and the workload's speed: a level in iterations is taken as it is.
+pub fn resolve(
+    level: &Level,
+    step_of: impl Fn(usize) -> Option<f64>,
+    ns_per_iteration: f64,
+) -> (f64, u64) {
+    let iterations = |micros: f64| (micros * 1e3 / ns_per_iteration).round() as u64;
+    match (
+        level.micros,
+        level.step_fraction,
+        level.size,
+        level.amount(),
+    ) {
+        (Some(us), _, _, _) => (us, iterations(us)),
+        (None, Some(fraction), Some(size), _) => {
+            let us = fraction * step_of(size).expect("the level's size was measured") * 1e3;
+            (us, iterations(us))
         }
+        (None, None, None, Some((_, amount))) => (amount as f64 * ns_per_iteration / 1e3, amount),
         _ => unreachable!("levels are validated before calibration"),
     }
 }
@@ -172,10 +185,14 @@ mod tests {
     #[test]
     fn levels_resolve_against_the_steps_given() {
         let steps = |size: usize| (size == 256).then_some(12.0);
-        assert_eq!(level_micros(&Level::micros(150.0), steps), 150.0);
+        assert_eq!(resolve(&Level::micros(150.0), steps, 2.0), (150.0, 75_000));
         assert_eq!(
-            level_micros(&Level::step_fraction(1.25, 256), steps),
-            15_000.0
+            resolve(&Level::step_fraction(1.25, 256), steps, 3.0),
+            (15_000.0, 5_000_000)
+        );
+        assert_eq!(
+            resolve(&Level::in_unit("iterations", 4_001), steps, 0.5),
+            (2.0005, 4_001)
         );
     }
 

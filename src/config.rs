@@ -3,11 +3,14 @@
 
 use crate::affinity;
 use crate::balance::record::BalanceSettings;
+use crate::camera::Camera;
 use crate::cell::{Axes, CellKey};
 use crate::frame_loop::{check_depth, check_helpers, Budget, Mode};
 use crate::ocean::{mesh, Grid, Mesh, Wave, WaveSet};
 use crate::suggest;
+use crate::workload::WorkloadKind;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 pub use crate::input::InputError;
@@ -22,9 +25,9 @@ crate::named! {
     }
 }
 
-/// One workload level: microseconds of one core's work, or a fraction of a mesh size's step.
+/// One workload level: microseconds of one core's work, a fraction of a mesh size's step, or an
+/// amount in the workload kind's own unit (`{"iterations": N}`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct Level {
     /// Microseconds of one core's work.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -35,7 +38,14 @@ pub struct Level {
     /// The mesh size whose step time `step_fraction` refers to.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub size: Option<usize>,
+    /// An amount in a workload kind's own unit, keyed by the unit's name; any other key lands
+    /// here too, so that validation can name it against the kinds' units.
+    #[serde(flatten)]
+    pub units: BTreeMap<String, f64>,
 }
+
+/// Largest amount a level may give in a kind's unit: a whole number an f64 holds exactly.
+const MAX_AMOUNT: f64 = 9.0e15;
 
 impl Level {
     /// A level of `micros` microseconds.
@@ -44,6 +54,7 @@ impl Level {
             micros: Some(micros),
             step_fraction: None,
             size: None,
+            units: BTreeMap::new(),
         }
     }
 
@@ -53,12 +64,72 @@ impl Level {
             micros: None,
             step_fraction: Some(fraction),
             size: Some(size),
+            units: BTreeMap::new(),
         }
     }
 
-    /// Checks the level's shape and, for `micros`, its bound: no more than `max_micros`.
-    fn validate(&self, index: usize, max_micros: f64) -> Result<(), InputError> {
+    /// A level of `amount` in a kind's `unit`.
+    pub fn in_unit(unit: &str, amount: u64) -> Level {
+        Level {
+            micros: None,
+            step_fraction: None,
+            size: None,
+            units: BTreeMap::from([(unit.to_string(), amount as f64)]),
+        }
+    }
+
+    /// The level's unit and amount, when it is given in a kind's unit.
+    pub fn amount(&self) -> Option<(&str, u64)> {
+        self.units
+            .iter()
+            .next()
+            .map(|(u, &a)| (u.as_str(), a as u64))
+    }
+
+    /// Checks the level's shape and, for `micros`, its bound: no more than `max_micros`; a level
+    /// in a unit must be in the unit of every workload kind in `kinds`.
+    fn validate(
+        &self,
+        index: usize,
+        max_micros: f64,
+        kinds: &[WorkloadKind],
+    ) -> Result<(), InputError> {
         let field = format!("workload_levels[{index}]");
+        let forms = || {
+            let mut units: Vec<&str> = kinds.iter().map(|k| k.unit()).collect();
+            units.dedup();
+            let units: Vec<String> = units.iter().map(|u| format!("{{\"{u}\": N}}")).collect();
+            format!(
+                "give {{\"micros\": US}}, {{\"step_fraction\": F, \"size\": N}} or {}",
+                units.join(" or ")
+            )
+        };
+        if let Some((unit, &amount)) = self.units.iter().next() {
+            let alone = self.units.len() == 1
+                && self.micros.is_none()
+                && self.step_fraction.is_none()
+                && self.size.is_none();
+            if let Some(kind) = kinds.iter().find(|k| k.unit() != unit) {
+                return Err(InputError(format!(
+                    "{field}: `{unit}` is not a unit of workload_kind `{kind}` (its unit is \
+                     `{}`); {}",
+                    kind.unit(),
+                    forms()
+                )));
+            }
+            if !alone {
+                return Err(InputError(format!("{field}: {}, one of them", forms())));
+            }
+            if !(amount.is_finite()
+                && (0.0..=MAX_AMOUNT).contains(&amount)
+                && amount.fract() == 0.0)
+            {
+                return Err(InputError(format!(
+                    "{field}.{unit}: must be a whole number 0 to {MAX_AMOUNT}, got {amount}"
+                )));
+            }
+            return Ok(());
+        }
         match (self.micros, self.step_fraction, self.size) {
             (Some(us), None, None) if us.is_finite() && (0.0..=max_micros).contains(&us) => Ok(()),
             (Some(us), None, None) if us.is_finite() && us > max_micros => Err(InputError(
@@ -77,9 +148,7 @@ impl Level {
                     .map(|_| ())
                     .map_err(|e| InputError(format!("{field}.{e}")))
             }
-            _ => Err(InputError(format!(
-                "{field}: give either {{\"micros\": US}} or {{\"step_fraction\": F, \"size\": N}}"
-            ))),
+            _ => Err(InputError(format!("{field}: {}", forms()))),
         }
     }
 }
@@ -130,6 +199,8 @@ pub struct SweepConfig {
     pub retry_noisy: u32,
     /// When present, the sweep also finds each size's balance point (see `oceanbench balance`).
     pub balance: Option<BalanceSettings>,
+    /// The camera the `render` workload looks through.
+    pub camera: Camera,
 }
 
 impl Default for SweepConfig {
@@ -155,6 +226,7 @@ impl Default for SweepConfig {
             noise_threshold_percent: 2.0,
             retry_noisy: 0,
             balance: None,
+            camera: Camera::default(),
         }
     }
 }
@@ -344,7 +416,7 @@ impl SweepConfig {
             )));
         }
         for (i, level) in self.workload_levels.iter().enumerate() {
-            level.validate(i, self.max_workload_micros())?;
+            level.validate(i, self.max_workload_micros(), &self.axes.workload_kind)?;
         }
         if let Some(&w) = self
             .axes
@@ -410,6 +482,7 @@ impl SweepConfig {
         if let Some(b) = &self.balance {
             b.validate("balance.")?;
         }
+        self.camera.validate()?;
         self.wave_set()?;
         self.placement()?;
         for key in self.axes.cells() {

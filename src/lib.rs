@@ -4,6 +4,7 @@
 pub mod affinity;
 pub mod balance;
 pub mod calibrate;
+pub mod camera;
 pub mod cell;
 pub mod cli;
 pub mod commands;

@@ -31,8 +31,14 @@ pub struct Cell {
     /// The cell's parameters.
     #[serde(flatten)]
     pub key: CellKey,
-    /// Workload iterations per frame.
+    /// Workload iterations per frame (the synthetic chain's; `render`'s submit cost).
     pub workload_iterations: u64,
+    /// The unit of the cell's workload kind (absent before schema 2: `iterations`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub workload_unit: Option<String>,
+    /// The cell's workload level in that unit (absent before schema 2: the iterations).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub workload_amount: Option<u64>,
     /// The measurements; absent when the cell failed.
     #[serde(flatten)]
     pub summary: Option<Summary>,
@@ -50,6 +56,18 @@ pub struct Cell {
     /// What disturbed the cell's trials (absent in results from before it was recorded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub noise: Option<CellNoise>,
+}
+
+impl Cell {
+    /// The unit of the cell's workload level (files before schema 2: iterations).
+    pub fn workload_unit(&self) -> &str {
+        self.workload_unit.as_deref().unwrap_or("iterations")
+    }
+
+    /// The cell's workload level in [`Cell::workload_unit`].
+    pub fn workload_amount(&self) -> u64 {
+        self.workload_amount.unwrap_or(self.workload_iterations)
+    }
 }
 
 /// What disturbed a cell's trials, and what was done about it.
@@ -166,8 +184,9 @@ impl Placement {
 
 /// The layout of results.json this build writes. Every change to the layout bumps it; files
 /// of every earlier version still load, and a file of a later one is refused rather than
-/// misread.
-pub const SCHEMA_VERSION: u32 = 1;
+/// misread. 2: cells carry `workload_kind`, `workload_unit` and `workload_amount`, and the
+/// config `camera`; absent, they mean the synthetic workload in iterations and the default camera.
+pub const SCHEMA_VERSION: u32 = 2;
 
 /// Files written before the field existed have today's layout, version 1.
 fn version_1() -> u32 {

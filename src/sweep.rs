@@ -55,12 +55,13 @@ pub fn calibrate(config: &SweepConfig, waves: &WaveSet) -> CalibrationRecord {
         .iter()
         .enumerate()
         .map(|(index, level)| {
-            let micros = calibrate::level_micros(level, |s| start.step_of(s));
+            let (micros, iterations) =
+                calibrate::resolve(level, |s| start.step_of(s), workload.ns_per_iteration);
             LevelRecord {
                 workload: index,
                 level: level.clone(),
                 micros,
-                iterations: workload.iterations_for(micros),
+                iterations,
             }
         })
         .collect();
@@ -128,7 +129,7 @@ impl Sweep {
         for l in &calibration.levels {
             if l.micros > config.max_workload_micros() {
                 return Err(InputError(config::too_much_work(
-                    &format!("workload_levels[{}] (a step_fraction level)", l.workload),
+                    &format!("workload_levels[{}]", l.workload),
                     l.micros.round(),
                     config.max_workload_micros(),
                 )));
@@ -339,9 +340,7 @@ impl Sweep {
         );
         let (micros, iterations) = match (config.calibrate, level.step_fraction) {
             (Calibrate::Row, Some(_)) => {
-                let micros = calibrate::level_micros(level, |s| row.step_of(s));
-                let iterations = (micros * 1e3 / row.ns_per_iteration).round() as u64;
-                (micros, iterations)
+                calibrate::resolve(level, |s| row.step_of(s), row.ns_per_iteration)
             }
             _ => (at_start.micros, at_start.iterations),
         };
@@ -377,7 +376,9 @@ impl Sweep {
             policy: key.policy.unwrap_or(Policy::Fifo),
             sync: key.sync.unwrap_or(SyncMethod::Atomic),
             threading: key.threading.unwrap_or(Threading::Pool),
-            workload_iterations: iterations,
+            workload_kind: key.workload_kind,
+            workload_amount: iterations,
+            camera: config.camera,
             depth: key.depth.unwrap_or(1),
             consume: key.consume,
             main_core: self.cores[0],
@@ -447,7 +448,9 @@ impl CellRun {
     fn finish(self, threshold_percent: f64) -> Cell {
         let failed = self.error.is_some();
         Cell {
-            workload_iterations: self.spec.workload_iterations,
+            workload_iterations: self.spec.workload_amount,
+            workload_unit: Some(self.spec.workload_kind.unit().to_string()),
+            workload_amount: Some(self.spec.workload_amount),
             summary: if failed {
                 None
             } else {

@@ -32,6 +32,7 @@ fn case(
     let (a, b, extra) = match dim {
         Dim::Size => (json!(16), Some(json!(24)), json!({})),
         Dim::Workload => (json!(0), Some(json!(1)), json!({})),
+        Dim::WorkloadKind => (json!("synthetic"), Some(json!("render")), json!({})),
         Dim::Mode => (json!("up"), Some(json!("dp")), json!({})),
         Dim::Policy => (json!("fifo"), Some(json!("latest")), json!({})),
         Dim::Sync => (json!("atomic"), Some(json!("condvar")), json!({})),
@@ -94,6 +95,8 @@ fn summary(fps: f64) -> Summary {
 
 fn cell(key: CellKey, fps: f64) -> Cell {
     Cell {
+        workload_unit: Some(key.workload_kind.unit().to_string()),
+        workload_amount: Some(0),
         key,
         workload_iterations: 0,
         summary: Some(summary(fps)),

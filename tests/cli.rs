@@ -103,6 +103,40 @@ fn bad_configs_exit_2_naming_the_field() {
         (r#"{"sync": ["atomic", "atomic"]}"#, vec!["sync", "twice"]),
         (r#"{"ocean": ["fft"]}"#, vec!["ocean[0]", "fft", "sines"]),
         (r#"{"ocean": ["sines", "sines"]}"#, vec!["ocean", "twice"]),
+        (
+            r#"{"workload_kind": ["synthetic", "fog"]}"#,
+            vec!["workload_kind[1]", "synthetic, render"],
+        ),
+        (
+            r#"{"workloads": [0], "workload_levels": [{"particles": 100}]}"#,
+            vec![
+                "workload_levels[0]",
+                "`particles` is not a unit",
+                "iterations",
+            ],
+        ),
+        (
+            r#"{"workloads": [0], "workload_levels": [{"iterations": 100, "micros": 5}]}"#,
+            vec!["workload_levels[0]", "one of them"],
+        ),
+        (
+            r#"{"workloads": [0], "workload_levels": [{"iterations": 2.5}]}"#,
+            vec!["workload_levels[0].iterations", "whole number"],
+        ),
+        (
+            r#"{"camera": {"pitch_degrees": 0}}"#,
+            vec!["camera.pitch_degrees", "1 to 90"],
+        ),
+        (
+            r#"{"camera": {"fov_degrees": 200}}"#,
+            vec!["camera.fov_degrees", "1 to 170"],
+        ),
+        (r#"{"camera": {"aspect": -1}}"#, vec!["camera.aspect"]),
+        (r#"{"camera": {"height": 0}}"#, vec!["camera.height"]),
+        (
+            r#"{"camera": {"zoom": 2}}"#,
+            vec!["camera.zoom", "pitch_degrees"],
+        ),
         (r#"{"cores": [0, 0]}"#, vec!["cores", "two different"]),
         (r#"[1, 2]"#, vec!["must be a JSON object"]),
         (r#"{"sizes": [40"#, vec!["not valid JSON"]),

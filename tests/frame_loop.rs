@@ -2,9 +2,11 @@
 //! exactly once and in order.
 
 use oceanbench::affinity;
+use oceanbench::camera::Camera;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
 use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, WaveSet};
 use oceanbench::sync::{Policy, SyncMethod};
+use oceanbench::workload::WorkloadKind;
 use std::time::Duration;
 
 const FRAMES: u64 = 300;
@@ -21,7 +23,9 @@ fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMetho
         policy: Policy::Fifo,
         sync,
         threading,
-        workload_iterations: 50,
+        workload_kind: WorkloadKind::Synthetic,
+        workload_amount: 50,
+        camera: Camera::default(),
         depth: 1,
         consume: Consume::Copy,
         main_core: cores[0],
@@ -541,7 +545,7 @@ fn latest_makes_progress_with_a_slow_helper_and_with_a_slow_main_thread() {
                 let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Neighbors);
                 s.policy = Policy::Latest;
                 s.grid = Grid::new(n, 0.75).unwrap();
-                s.workload_iterations = iterations;
+                s.workload_amount = iterations;
                 let (done, finished) = std::sync::mpsc::channel();
                 std::thread::spawn(move || {
                     let mut indices = Vec::new();
@@ -566,6 +570,99 @@ fn latest_makes_progress_with_a_slow_helper_and_with_a_slow_main_thread() {
                     indices.len()
                 );
             }
+        }
+    }
+}
+
+/// `render` reads the consumed mesh after the consume step: in every mode, depth, consumption,
+/// method and helper count its vertex buffer after the last frame is serial's, bit for bit (a
+/// slot released before render read it would let the helper overwrite it mid-read); under
+/// `latest` it runs and draws one of the meshes the helper finished.
+#[test]
+fn render_draws_the_same_vertex_buffer_in_every_mode_depth_consumption_method_and_helpers() {
+    const FEW: u64 = 24;
+    let render = |mut s: LoopSpec| {
+        (s.workload_kind, s.workload_amount) = (WorkloadKind::Render, 100);
+        s.grid = Grid::new(24, 0.75).unwrap();
+        let what = format!(
+            "{:?} {:?} {:?} d{} {:?} h{}",
+            s.mode,
+            s.policy,
+            s.sync,
+            s.depth,
+            s.consume,
+            s.helpers()
+        );
+        let mut last = None;
+        let run = frame_loop::run(&s, &Budget::exact(FEW), |k, _| last = Some(k))
+            .unwrap_or_else(|e| panic!("{what}: {e}"));
+        assert!(
+            run.trial.frames.iter().all(|f| f.workload_ns > 0),
+            "{what}: render's time is the frame's workload"
+        );
+        (run.work_digest, last, what)
+    };
+    let serial = render(spec(
+        Mode::Serial,
+        SyncMethod::Atomic,
+        Threading::Pool,
+        NormalMethod::Analytic,
+    ));
+    let mut shorter = spec(
+        Mode::Serial,
+        SyncMethod::Atomic,
+        Threading::Pool,
+        NormalMethod::Analytic,
+    );
+    shorter.time_step *= 2.0;
+    assert_ne!(render(shorter).0, serial.0, "the buffer follows the mesh");
+    for mode in modes() {
+        for consume in [Consume::Copy, Consume::Read, Consume::Handle] {
+            for depth in 1..=frame_loop::MAX_DEPTH {
+                for sync in SyncMethod::of_policy(Policy::Fifo) {
+                    let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
+                    (s.depth, s.consume) = (depth, consume);
+                    let (digest, _, what) = render(s);
+                    assert_eq!(digest, serial.0, "{what}");
+                }
+            }
+            let mut spawned = spec(
+                mode,
+                SyncMethod::Atomic,
+                Threading::Spawn,
+                NormalMethod::Analytic,
+            );
+            spawned.consume = consume;
+            let (digest, _, what) = render(spawned);
+            assert_eq!(digest, serial.0, "{what}");
+            let mut split = spec(
+                mode,
+                SyncMethod::Condvar,
+                Threading::Pool,
+                NormalMethod::Analytic,
+            );
+            (split.consume, split.depth, split.helper_cores) = (consume, 2, with_helpers(mode, 3));
+            let (digest, _, what) = render(split);
+            assert_eq!(digest, serial.0, "{what}");
+        }
+        for sync in SyncMethod::of_policy(Policy::Latest) {
+            let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
+            s.policy = Policy::Latest;
+            let (digest, last, what) = render(s);
+            // The serial loop run up to the mesh `latest` showed last draws the same buffer.
+            let frames = last.expect("frames were shown") + 1;
+            let mut serial = spec(
+                Mode::Serial,
+                SyncMethod::Atomic,
+                Threading::Pool,
+                NormalMethod::Analytic,
+            );
+            (serial.workload_kind, serial.workload_amount) = (WorkloadKind::Render, 100);
+            serial.grid = Grid::new(24, 0.75).unwrap();
+            let expect = frame_loop::run(&serial, &Budget::exact(frames), |_, _| {})
+                .unwrap()
+                .work_digest;
+            assert_eq!(digest, expect, "{what}: the buffer of mesh {}", frames - 1);
         }
     }
 }

@@ -8,13 +8,11 @@
 //! go back.
 //!
 //! `adaptive` is checked on the protocol it runs: each side bumps its counter with a plain store
-//! and looks for sleepers after a light fence, a sleeper registers and looks at the counters
-//! after a heavy one. On Linux the pair is a compiler barrier and
-//! `membarrier(MEMBARRIER_CMD_PRIVATE_EXPEDITED)`, which loom cannot model; here both are the
-//! `fence(SeqCst)` they stand for (src/sync/fence.rs). Its spin and yield phases are a few
-//! looks without a pause under loom, so a waiter does reach its sleep before the other side
-//! has changed the counters: the lost wake-up the fences prevent is within the model's reach
-//! (dropping either fence, or the wake-up after a publish, makes it report a deadlock).
+//! and looks for sleepers after a `fence(SeqCst)`, a sleeper registers and looks at the counters
+//! after one. Its spin and yield phases are a few looks without a pause under loom, so a waiter
+//! does reach its sleep before the other side has changed the counters: the lost wake-up the
+//! fences prevent is within the model's reach (dropping either fence, or the wake-up after a
+//! publish, makes it report a deadlock).
 //!
 //! loom sees only what is built on the crate's loom facade. The crate-backed methods
 //! (crossbeam, std-channel, flume, rtrb, triple-buffer) use their crates' own atomics, and

@@ -38,7 +38,7 @@ fn junk() -> impl Strategy<Value = String> {
 }
 
 /// The fields a junk value replaces, one by one ("sizez" is a misspelt key).
-const FIELDS: [&str; 21] = [
+const FIELDS: [&str; 23] = [
     "sizes",
     "workloads",
     "modes",
@@ -59,6 +59,8 @@ const FIELDS: [&str; 21] = [
     "timeout_seconds",
     "cores",
     "warmup_frames",
+    "camera",
+    "workload_kind",
     "sizez",
 ];
 

@@ -9,9 +9,11 @@
 //! whole soak within CI's budget; every method is still soaked for at least `MIN_FRAMES`.
 
 use oceanbench::affinity;
+use oceanbench::camera::Camera;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
 use oceanbench::ocean::{Grid, Kernel, NormalMethod, OceanKind, WaveSet};
 use oceanbench::sync::{Policy, SyncMethod};
+use oceanbench::workload::WorkloadKind;
 use std::time::Duration;
 
 /// Frames per run at depths 1, 2 and 3.
@@ -42,7 +44,9 @@ fn a_million_frames_per_method_none_lost() {
                     policy: Policy::Fifo,
                     sync,
                     threading: Threading::Pool,
-                    workload_iterations: 0,
+                    workload_kind: WorkloadKind::Synthetic,
+                    workload_amount: 0,
+                    camera: Camera::default(),
                     depth,
                     consume: if depth == 1 {
                         Consume::Copy

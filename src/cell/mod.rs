@@ -17,6 +17,7 @@ use crate::frame_loop::{self, Consume, Mode, Threading, MAX_DEPTH, MAX_HELPERS};
 use crate::input::InputError;
 use crate::ocean::{mesh::MAX_SIZE, Kernel, Model, NormalMethod, OceanKind};
 use crate::sync::{Policy, SyncMethod};
+use crate::workload::WorkloadKind;
 use declare::{dim_values, dimensions};
 use itertools::Itertools;
 
@@ -28,7 +29,8 @@ dim_values!(
     Consume,
     NormalMethod,
     OceanKind,
-    Kernel
+    Kernel,
+    WorkloadKind
 );
 
 dimensions! {
@@ -48,6 +50,15 @@ dimensions! {
         row: true,
         label: "w{}",
         title: "workload {}",
+    }
+    /// What the main thread does each frame: the synthetic game work, or rendering the mesh.
+    WorkloadKind(workload_kind: WorkloadKind) {
+        config: workload_kind = [WorkloadKind::Synthetic],
+        cells: all,
+        row: true,
+        label: "{}",
+        title: "{} workload",
+        quiet: WorkloadKind::Synthetic,
     }
     /// Where the threads run: serial, up (one core) or dp (two cores).
     Mode(mode: Mode) {

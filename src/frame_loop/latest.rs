@@ -15,6 +15,7 @@ use super::{Budget, LoopError, LoopRun, LoopSpec};
 use crate::measure::FrameRecord;
 use crate::ocean::{Mesh, Stepper};
 use crate::sync::{MailboxIn, MailboxOut};
+use crate::workload::Work;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
@@ -47,6 +48,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
     ocean: Box<dyn Stepper>,
+    work: &mut dyn Work,
     mut observe: F,
 ) -> Result<LoopRun, LoopError> {
     let now = Instant::now();
@@ -82,18 +84,13 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
             }
         })
     };
-    let mut render = spec.blank_mesh();
-    let mut last = None;
+    let mut main = MainSide {
+        render: spec.blank_mesh(),
+        last: None,
+        work,
+    };
     drive(spec, budget, start, |frames, shared| {
-        consume(
-            spec,
-            frames,
-            shared,
-            &mut *output,
-            &mut render,
-            &mut last,
-            &mut observe,
-        )
+        consume(spec, frames, shared, &mut *output, &mut main, &mut observe)
     })
 }
 
@@ -110,19 +107,18 @@ fn produce(spec: &LoopSpec, j: u64, ocean: &mut dyn Stepper, input: &mut dyn Mai
 }
 
 /// The main thread's frame k: workload, take the newest mesh (waiting only for the first),
-/// consume it. `last` is the index consumed the frame before.
+/// consume it and run the work that reads it.
 fn consume<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     frames: &mut FrameCounter,
     shared: &Latest,
     output: &mut dyn MailboxOut<Frame>,
-    render: &mut Mesh,
-    last: &mut Option<u64>,
+    main: &mut MainSide<'_>,
     observe: &mut F,
 ) -> Result<FrameRecord, LoopError> {
     let k = frames.frame;
     let t0 = frames.start();
-    spec.workload(k)?;
+    spec.work_before_wait(&mut *main.work, k)?;
     let t1 = Instant::now();
     let (taken, waited) = timed(|| take(spec, output, t1));
     taken?;
@@ -131,6 +127,7 @@ fn consume<F: FnMut(u64, &Mesh)>(
     let index = frame
         .index
         .expect("`take` returns holding a published mesh");
+    let MainSide { render, last, work } = main;
     if last.is_some_and(|l| index < l) {
         return Err(LoopError::Helper(format!(
             "the mesh of frame {index} was taken after frame {}'s",
@@ -145,6 +142,7 @@ fn consume<F: FnMut(u64, &Mesh)>(
     if let Some(sum) = read {
         frames.read(sum);
     }
+    let on_mesh = spec.work_on_mesh(&mut **work, index, consumed)?;
     observe(index, consumed);
     let t3 = Instant::now();
     let ahead = shared
@@ -153,10 +151,10 @@ fn consume<F: FnMut(u64, &Mesh)>(
         .saturating_sub(index + 1);
     Ok(FrameRecord {
         total_ns: ns(t3 - t0),
-        workload_ns: ns(t1 - t0),
+        workload_ns: ns(t1 - t0 + on_mesh),
         wait_ns: ns(t2 - t1),
         wait_cpu_ns: waited.cpu_ns,
-        copy_ns: ns(t3 - t2),
+        copy_ns: ns(t3 - t2 - on_mesh),
         step_ns: frame.step_ns,
         age_frames: ahead.min(u64::from(u32::MAX)) as u32,
         age_ns: ns(t2.saturating_duration_since(frame.published)),
@@ -164,6 +162,16 @@ fn consume<F: FnMut(u64, &Mesh)>(
         mesh_frame: index,
         ..FrameRecord::default()
     })
+}
+
+/// What the main thread keeps from frame to frame.
+struct MainSide<'w> {
+    /// The copy of the mesh under `copy`.
+    render: Mesh,
+    /// The index of the mesh consumed the frame before.
+    last: Option<u64>,
+    /// The main thread's work.
+    work: &'w mut dyn Work,
 }
 
 /// Takes the newest published mesh, if one came since the last take; before the first, waits

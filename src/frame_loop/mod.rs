@@ -20,11 +20,13 @@ mod spawn;
 pub use consume::{read, Consume, ReadPass};
 
 use crate::affinity::{self, Pin};
+use crate::camera::Camera;
 use crate::input::InputError;
 use crate::measure::Trial;
 use crate::ocean::{Grid, Kernel, Mesh, Model, NormalMethod, OceanKind, WaveSet};
 use crate::sched::{self, ThreadCounters, ThreadNoise, TrialNoise};
 use crate::sync::{Policy, SyncMethod};
+use crate::workload::{Work, WorkSpec, WorkloadKind};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -82,8 +84,12 @@ pub struct LoopSpec {
     pub sync: SyncMethod,
     /// Persistent or per-frame helper (ignored in `serial`).
     pub threading: Threading,
-    /// Workload iterations the main thread runs per frame.
-    pub workload_iterations: u64,
+    /// What the main thread does each frame.
+    pub workload_kind: WorkloadKind,
+    /// The main thread's work per frame, in the kind's unit ([`WorkloadKind::unit`]).
+    pub workload_amount: u64,
+    /// The camera, for workloads that look at the mesh.
+    pub camera: Camera,
     /// Mesh slots in the ring: frames the helper may finish before the main thread consumes
     /// the first of them (1: the paper's lockstep loop; ignored in `serial`).
     pub depth: usize,
@@ -144,12 +150,40 @@ impl LoopSpec {
             .is_some_and(|s| s.load(Ordering::Relaxed))
     }
 
-    /// Runs frame k's workload; `Interrupted` when a stop request arrived meanwhile (it is
-    /// looked at every hundred microseconds or so of work).
-    fn workload(&self, k: u64) -> Result<(), LoopError> {
-        crate::workload::run_unless(self.workload_iterations, k, self.stop.as_deref())
-            .map(|_| ())
-            .ok_or(LoopError::Interrupted)
+    /// What the main thread's work is built from.
+    pub fn work_spec(&self) -> WorkSpec {
+        WorkSpec {
+            kind: self.workload_kind,
+            amount: self.workload_amount,
+            grid: self.grid,
+            camera: self.camera,
+        }
+    }
+
+    /// Frame k's work if it does not read the mesh, run before the wait so that it overlaps the
+    /// helper's step; `Interrupted` when a stop request arrived meanwhile.
+    fn work_before_wait(&self, work: &mut dyn Work, k: u64) -> Result<(), LoopError> {
+        if work.reads_mesh() {
+            return Ok(());
+        }
+        work.run(k, None, self.stop.as_deref())
+            .map_err(|_| LoopError::Interrupted)
+    }
+
+    /// Frame k's work if it reads the mesh, on the mesh the frame consumed; how long it took.
+    fn work_on_mesh(
+        &self,
+        work: &mut dyn Work,
+        k: u64,
+        mesh: &Mesh,
+    ) -> Result<Duration, LoopError> {
+        if !work.reads_mesh() {
+            return Ok(Duration::ZERO);
+        }
+        let started = Instant::now();
+        work.run(k, Some(mesh), self.stop.as_deref())
+            .map_err(|_| LoopError::Interrupted)?;
+        Ok(started.elapsed())
     }
 
     /// Fault injection: a helper that reaches `stall_at_frame` never publishes again, so the
@@ -360,6 +394,8 @@ pub struct LoopRun {
     /// Every helper's pin, helper k at index k (empty in `serial`; in `spawn`, the per-frame
     /// threads together: held only if every one held).
     pub helper_pins: Vec<Pin>,
+    /// The digest of what the main thread's work produced in the last frame.
+    pub work_digest: u64,
     /// Each thread's run delay and preemptions, and each core's steal, during the loop.
     pub noise: TrialNoise,
 }
@@ -458,11 +494,21 @@ where
     std::thread::scope(|s| {
         std::thread::Builder::new()
             .name("ocean-main".into())
-            .spawn_scoped(s, move || match (spec.mode, spec.threading) {
-                (Mode::Serial, _) => serial::run(spec, budget, ocean, observe),
-                _ if spec.policy == Policy::Latest => latest::run(spec, budget, ocean, observe),
-                (_, Threading::Pool) => pool::run(spec, budget, ocean, observe),
-                (_, Threading::Spawn) => spawn::run(spec, budget, ocean, observe),
+            .spawn_scoped(s, move || {
+                // Built on the main thread, which alone touches it: a kind's buffers are then
+                // in that thread's memory.
+                let mut work = WorkloadKind::work(&spec.work_spec());
+                let work = &mut *work;
+                let mut run = match (spec.mode, spec.threading) {
+                    (Mode::Serial, _) => serial::run(spec, budget, ocean, work, observe),
+                    _ if spec.policy == Policy::Latest => {
+                        latest::run(spec, budget, ocean, work, observe)
+                    }
+                    (_, Threading::Pool) => pool::run(spec, budget, ocean, work, observe),
+                    (_, Threading::Spawn) => spawn::run(spec, budget, ocean, work, observe),
+                }?;
+                run.work_digest = work.digest();
+                Ok(run)
             })
             .map_err(|e| LoopError::Helper(e.to_string()))?
             .join()

@@ -10,6 +10,7 @@ use crate::measure::FrameRecord;
 use crate::ocean::{Mesh, Stepper};
 use crate::sched::ThreadNoise;
 use crate::sync::Free;
+use crate::workload::Work;
 use std::convert::Infallible;
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
 use std::sync::Arc;
@@ -130,6 +131,7 @@ pub(super) fn drive<S: Stop>(
         trial: frames.trial(),
         main_pin,
         helper_pins,
+        work_digest: 0,
         noise: cores.stop(threads),
     })
 }
@@ -139,6 +141,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
     ocean: Box<dyn Stepper>,
+    work: &mut dyn Work,
     mut observe: F,
 ) -> Result<LoopRun, LoopError> {
     // Each helper gets its own stepper: the fast kernel keeps per-band tables in it.
@@ -162,6 +165,14 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     let mut render = spec.blank_mesh();
     let mut held = 0;
     drive(spec, budget, start, |frames, shared| {
-        consume(spec, frames, shared, &mut render, &mut held, &mut observe)
+        consume(
+            spec,
+            frames,
+            shared,
+            &mut render,
+            &mut held,
+            work,
+            &mut observe,
+        )
     })
 }

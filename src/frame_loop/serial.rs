@@ -8,6 +8,7 @@ use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
 use crate::affinity;
 use crate::measure::FrameRecord;
 use crate::ocean::{Mesh, Stepper};
+use crate::workload::Work;
 use std::time::Instant;
 
 /// Runs the loop on the calling thread until the budget is met.
@@ -15,6 +16,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
     mut ocean: Box<dyn Stepper>,
+    work: &mut dyn Work,
     mut observe: F,
 ) -> Result<LoopRun, LoopError> {
     let main_pin = affinity::pin_current(spec.main_core);
@@ -25,7 +27,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     loop {
         let k = frames.frame;
         let t0 = frames.start();
-        spec.workload(k)?;
+        spec.work_before_wait(work, k)?;
         let t1 = Instant::now();
         ocean.step(spec.time_of(k), &mut mesh);
         let t2 = Instant::now();
@@ -33,13 +35,14 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
         if let Some(sum) = read {
             frames.read(sum);
         }
+        let on_mesh = spec.work_on_mesh(work, k, consumed)?;
         observe(k, consumed);
         let t3 = Instant::now();
         let record = FrameRecord {
             total_ns: ns(t3 - t0),
-            workload_ns: ns(t1 - t0),
+            workload_ns: ns(t1 - t0 + on_mesh),
             wait_ns: 0,
-            copy_ns: ns(t3 - t2),
+            copy_ns: ns(t3 - t2 - on_mesh),
             step_ns: ns(t2 - t1),
             // The mesh is used in the frame it was computed in, from the step's start.
             latency_ns: ns(t2 - t1),
@@ -54,6 +57,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
         trial: frames.trial(),
         main_pin,
         helper_pins: Vec::new(),
+        work_digest: 0,
         noise: cores.stop(vec![main.stop("main".into())]),
     })
 }

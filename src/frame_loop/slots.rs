@@ -14,6 +14,7 @@ use crate::measure::FrameRecord;
 use crate::ocean::{Grid, Mesh, MeshRows, Stepper};
 use crate::sched;
 use crate::sync::{Handoff, Slot};
+use crate::workload::Work;
 use std::cell::UnsafeCell;
 use std::ops::Range;
 use std::time::{Duration, Instant};
@@ -233,11 +234,12 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
     shared: &Shared,
     render: &mut Mesh,
     held: &mut u64,
+    work: &mut dyn Work,
     observe: &mut F,
 ) -> Result<FrameRecord, LoopError> {
     let k = frames.frame;
     let t0 = frames.start();
-    spec.workload(k)?;
+    spec.work_before_wait(work, k)?;
     let t1 = Instant::now();
     let deadline = t1 + spec.timeout;
     let (published_all, main_waited) = timed(|| {
@@ -292,12 +294,24 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
         Consume::Handle => shared.slots.len() as u64 - 1,
         Consume::Copy | Consume::Read => 0,
     };
-    while *held > keep {
-        for part in &shared.parts {
-            part.handoff.release();
+    let release = |held: &mut u64| {
+        while *held > keep {
+            for part in &shared.parts {
+                part.handoff.release();
+            }
+            *held -= 1;
         }
-        *held -= 1;
-    }
+    };
+    // Work on a copy runs after the slot is back with the helper; work on the slot itself
+    // holds it until done, which at depth 1 keeps the helper waiting (docs/pipelining.md).
+    let on_mesh = if spec.consume == Consume::Copy {
+        release(held);
+        spec.work_on_mesh(work, k, consumed)?
+    } else {
+        let took = spec.work_on_mesh(work, k, consumed)?;
+        release(held);
+        took
+    };
     let t3 = Instant::now();
     if let Some(index) = wrong {
         return Err(LoopError::Helper(format!(
@@ -306,10 +320,10 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
     }
     Ok(FrameRecord {
         total_ns: ns(t3 - t0),
-        workload_ns: ns(t1 - t0),
+        workload_ns: ns(t1 - t0 + on_mesh),
         wait_ns: ns(t2 - t1),
         wait_cpu_ns: main_waited.cpu_ns,
-        copy_ns: ns(t3 - t2),
+        copy_ns: ns(t3 - t2 - on_mesh),
         step_ns,
         helper_wait_ns: helpers_waited.ns,
         helper_wait_cpu_ns: helpers_waited.cpu_ns,

@@ -8,6 +8,7 @@ use crate::affinity::{self, Pin};
 use crate::ocean::{Mesh, Stepper};
 use crate::sched::ThreadNoise;
 use crate::sync::Free;
+use crate::workload::Work;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -16,6 +17,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
     ocean: Box<dyn Stepper>,
+    work: &mut dyn Work,
     mut observe: F,
 ) -> Result<LoopRun, LoopError> {
     let main_pin = affinity::pin_current(spec.main_core);
@@ -64,6 +66,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
             &shared,
             &mut render,
             &mut held,
+            work,
             &mut observe,
         )?;
         let (back, pin, noise) = helper
@@ -84,6 +87,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
         trial: frames.trial(),
         main_pin,
         helper_pins: vec![helpers],
+        work_digest: 0,
         noise: cores.stop(vec![main.stop("main".into()), suffered]),
     })
 }

@@ -14,6 +14,8 @@ struct CellRow<'a> {
     #[serde(flatten)]
     key: &'a CellKey,
     workload_iterations: u64,
+    workload_unit: &'a str,
+    workload_amount: u64,
     fps: Option<f64>,
     fps_min: Option<f64>,
     fps_max: Option<f64>,
@@ -74,6 +76,8 @@ impl<'a> CellRow<'a> {
         CellRow {
             key: &cell.key,
             workload_iterations: cell.workload_iterations,
+            workload_unit: cell.workload_unit(),
+            workload_amount: cell.workload_amount(),
             fps: stat(|s| s.fps),
             fps_min: stat(|s| s.fps_spread.min),
             fps_max: stat(|s| s.fps_spread.max),

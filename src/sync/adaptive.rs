@@ -15,14 +15,14 @@
 //! Blocking uses parking_lot's mutex and condition variable (futex-backed, with timed waits,
 //! which `atomic-wait` lacks; and model-checked here through the loom facade). A waiter
 //! registers itself as a sleeper, then fences, then looks at the counters a last time; a
-//! signaller stores, fences, then looks for sleepers; the two fences order each side's store
-//! before its load, so one of them sees the other's store and a wake-up cannot be lost. The
-//! fences are asymmetric (`fence`): the signaller, on every hand-off, pays a compiler barrier;
-//! the sleeper, already on its way to a wake-up of tens of µs, pays `membarrier`.
+//! signaller stores, fences, then looks for sleepers; the two `fence(SeqCst)` order each side's
+//! store before its load, so one of them sees the other's store and a wake-up cannot be lost.
+//! The fences are symmetric on purpose: an asymmetric pair (a compiler barrier for the
+//! signaller, `membarrier(MEMBARRIER_CMD_PRIVATE_EXPEDITED)` for the sleeper) measured no faster
+//! at the floor on a 2-vCPU KVM guest and cost about 17 µs more CPU per sleep (docs/handoffs.md).
 
-use super::fence;
 use super::polls;
-use super::primitives::{AtomicBool, AtomicU64, Ordering, PlCondvar, PlMutex};
+use super::primitives::{fence, AtomicBool, AtomicU64, Ordering, PlCondvar, PlMutex};
 use super::{Free, Handoff, Ring, TimedOut};
 use crossbeam_utils::CachePadded;
 // The learnt phase lengths are hints each side keeps for itself, no part of the protocol, so
@@ -158,7 +158,6 @@ impl AdaptiveRing {
     /// A ring of `depth` free slots (the first in the process also measures the poll rate).
     pub fn new(depth: u64) -> Self {
         let bounds = SpinBounds::at(polls::per_us());
-        fence::register();
         AdaptiveRing {
             counters: CachePadded::new(Counters {
                 head: AtomicU64::new(0),
@@ -194,8 +193,8 @@ impl AdaptiveRing {
 
     /// After a change of the counters: wakes a sleeping waiter, if there is one.
     fn signal(&self) {
-        // Pairs with the sleeper's heavy fence: either it sees the change or we see it.
-        fence::light();
+        // Pairs with the sleeper's fence: either it sees the change or we see it.
+        fence(Ordering::SeqCst);
         if self.sleepers.count.load(Ordering::Relaxed) > 0 {
             let _guard = self.sleepers.lock.lock();
             self.sleepers.changed.notify_all();
@@ -268,8 +267,8 @@ impl AdaptiveRing {
     ) -> Result<T, TimedOut> {
         let sleepers = &self.sleepers;
         sleepers.count.fetch_add(1, Ordering::Relaxed);
-        // Pairs with the signaller's light fence: either it sees us or we see its change.
-        fence::heavy();
+        // Pairs with the signaller's fence: either it sees us or we see its change.
+        fence(Ordering::SeqCst);
         let mut guard = sleepers.lock.lock();
         let outcome = loop {
             if let Some(v) = ready(&self.ring()) {

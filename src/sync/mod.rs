@@ -5,7 +5,6 @@
 mod adaptive;
 mod channel;
 mod condvar;
-mod fence;
 mod flag;
 mod futex;
 mod mailbox;

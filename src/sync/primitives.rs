@@ -13,7 +13,7 @@ pub(crate) use parking_lot::{Condvar as PlCondvar, Mutex as PlMutex, MutexGuard 
 #[cfg(not(loom))]
 pub(crate) use std::hint::spin_loop;
 #[cfg(not(loom))]
-pub(crate) use std::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, Ordering};
+pub(crate) use std::sync::atomic::{fence, AtomicBool, AtomicU64, AtomicU8, Ordering};
 #[cfg(not(loom))]
 pub(crate) use std::sync::Mutex as StdMutex;
 #[cfg(not(loom))]
@@ -22,7 +22,7 @@ use std::sync::{Condvar as StdCondvar, MutexGuard as StdInnerGuard};
 pub(crate) use std::thread::yield_now;
 
 #[cfg(loom)]
-pub(crate) use loom::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, Ordering};
+pub(crate) use loom::sync::atomic::{fence, AtomicBool, AtomicU64, AtomicU8, Ordering};
 #[cfg(loom)]
 pub(crate) use loom::sync::Mutex as StdMutex;
 #[cfg(loom)]

@@ -1,6 +1,82 @@
-//! What the main thread does while the helper computes the mesh: the synthetic game work of
-//! the paper's study (a calibrated integer chain), with room for workloads that use the mesh.
+//! What the main thread does each frame while the helper computes the mesh, behind one trait:
+//! the synthetic game work of the paper's study (a calibrated integer chain) and `render`, which
+//! transforms the mesh just consumed. A kind is one file here, one variant of [`WorkloadKind`]
+//! and one arm of [`WorkloadKind::work`].
 
+mod render;
 mod synthetic;
 
-pub use synthetic::{run, run_unless, Calibration};
+pub use render::Render;
+pub use synthetic::{run, run_unless, Calibration, Synthetic};
+
+use crate::camera::Camera;
+use crate::ocean::{Grid, Mesh};
+use std::sync::atomic::AtomicBool;
+
+crate::named! {
+    /// What the main thread does each frame.
+    pub enum WorkloadKind {
+        /// The paper's game work: a chain of integer mixing, before the wait for the mesh.
+        Synthetic,
+        /// Transforms every vertex and normal of the consumed mesh into a vertex buffer with
+        /// the camera's view-projection, then spends the level's work as the cost of submitting
+        /// the frame.
+        Render,
+    }
+}
+
+/// The stop flag was raised before the frame's work was done.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Stopped;
+
+/// A frame's worth of main-thread work.
+pub trait Work: Send {
+    /// Whether the work reads the mesh the frame consumed. One that does not runs before the
+    /// wait for the mesh, overlapping the helper's step (the paper's place); one that does runs
+    /// after the consume step, on the consumed mesh, before its slot is released.
+    fn reads_mesh(&self) -> bool;
+
+    /// Frame `k`'s work. `mesh` is the frame's consumed mesh when [`Work::reads_mesh`], else
+    /// `None`. Looks at `stop` every hundred microseconds or so of work.
+    fn run(
+        &mut self,
+        k: u64,
+        mesh: Option<&Mesh>,
+        stop: Option<&AtomicBool>,
+    ) -> Result<(), Stopped>;
+
+    /// A digest of what the last frame's work produced, to check that every mode, method and
+    /// depth produces the same (not called while measuring).
+    fn digest(&self) -> u64;
+}
+
+/// What a kind's work is built from.
+#[derive(Clone, Copy, Debug)]
+pub struct WorkSpec {
+    /// The kind.
+    pub kind: WorkloadKind,
+    /// The level in the kind's own unit ([`WorkloadKind::unit`]).
+    pub amount: u64,
+    /// The mesh grid the work may read.
+    pub grid: Grid,
+    /// The camera, for kinds that look at the mesh.
+    pub camera: Camera,
+}
+
+impl WorkloadKind {
+    /// The unit a level of this kind is counted in, as configs and results name it.
+    pub fn unit(self) -> &'static str {
+        match self {
+            WorkloadKind::Synthetic => Synthetic::UNIT,
+            WorkloadKind::Render => Render::UNIT,
+        }
+    }
+
+    /// Builds the kind's work for one loop, on the thread that will run it.
+    pub fn work(spec: &WorkSpec) -> Box<dyn Work> {
+        match spec.kind {
+            WorkloadKind::Synthetic => Box::new(Synthetic::new(spec.amount)),
+            WorkloadKind::Render => Box::new(Render::new(spec)),
+        }
+    }
+}

@@ -81,3 +81,43 @@ impl Calibration {
         (micros * 1e3 / self.ns_per_iteration).round() as u64
     }
 }
+
+/// The synthetic workload of one loop: `iterations` of the chain per frame, seeded with the
+/// frame's index.
+pub struct Synthetic {
+    iterations: u64,
+    last: u64,
+}
+
+impl Synthetic {
+    /// A synthetic level counts iterations of the chain.
+    pub const UNIT: &'static str = "iterations";
+
+    /// `iterations` of the chain per frame.
+    pub fn new(iterations: u64) -> Synthetic {
+        Synthetic {
+            iterations,
+            last: 0,
+        }
+    }
+}
+
+impl super::Work for Synthetic {
+    fn reads_mesh(&self) -> bool {
+        false
+    }
+
+    fn run(
+        &mut self,
+        k: u64,
+        _mesh: Option<&crate::ocean::Mesh>,
+        stop: Option<&AtomicBool>,
+    ) -> Result<(), super::Stopped> {
+        self.last = run_unless(self.iterations, k, stop).ok_or(super::Stopped)?;
+        Ok(())
+    }
+
+    fn digest(&self) -> u64 {
+        self.last
+    }
+}

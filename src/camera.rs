@@ -1,0 +1,230 @@
+//! The camera that looks at the ocean patch, defined once: where it stands, where it looks and
+//! what it sees. The `render` workload transforms every vertex with its view-projection matrix;
+//! the projected grid and the fog reuse it.
+
+use crate::input::InputError;
+use crate::ocean::Grid;
+use glam::{Mat4, Vec3};
+use serde::{Deserialize, Serialize};
+
+/// A perspective camera looking down at the centre of the patch (config key `camera`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Camera {
+    /// Height above the still sea; `null` places the camera as low as it can while the whole
+    /// patch, with its waves, stays in view.
+    pub height: Option<f32>,
+    /// How far below the horizon the camera looks at the patch's centre.
+    pub pitch_degrees: f32,
+    /// The vertical field of view.
+    pub fov_degrees: f32,
+    /// Width over height of the image.
+    pub aspect: f32,
+}
+
+impl Default for Camera {
+    fn default() -> Self {
+        Camera {
+            height: None,
+            pitch_degrees: 30.0,
+            fov_degrees: 60.0,
+            aspect: 16.0 / 9.0,
+        }
+    }
+}
+
+/// Allowed pitches: looking at the patch from above the horizon, up to straight down.
+const PITCH: (f32, f32) = (1.0, 90.0);
+/// Allowed fields of view.
+const FOV: (f32, f32) = (1.0, 170.0);
+/// Allowed aspect ratios.
+const ASPECT: (f32, f32) = (0.1, 10.0);
+/// Heights above this, in world units, are typos rather than cameras.
+const MAX_HEIGHT: f32 = 1e6;
+/// How far the waves may rise above the still sea when the default height frames the patch,
+/// as a fraction of the patch's width.
+const WAVE_ROOM: f32 = 0.1;
+
+impl Camera {
+    /// Checks every field; the message names it and its allowed range.
+    pub fn validate(&self) -> Result<(), InputError> {
+        let within = |field: &str, v: f32, (lo, hi): (f32, f32)| {
+            if v.is_finite() && (lo..=hi).contains(&v) {
+                Ok(())
+            } else {
+                Err(InputError(format!(
+                    "camera.{field}: must be {lo} to {hi}, got {v}"
+                )))
+            }
+        };
+        within("pitch_degrees", self.pitch_degrees, PITCH)?;
+        within("fov_degrees", self.fov_degrees, FOV)?;
+        within("aspect", self.aspect, ASPECT)?;
+        if let Some(h) = self.height {
+            if !(h.is_finite() && h > 0.0 && h <= MAX_HEIGHT) {
+                return Err(InputError(format!(
+                    "camera.height: must be above 0 and at most {MAX_HEIGHT}, or null to frame the patch, got {h}"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// The camera's position for `grid`: on the line through the patch's centre at the pitch,
+    /// at the given height or far enough back that a sphere around the patch and its waves
+    /// fits the narrower field of view.
+    pub fn eye(&self, grid: Grid) -> Vec3 {
+        let (centre, width) = patch(grid);
+        let pitch = self.pitch_degrees.to_radians();
+        let distance = match self.height {
+            Some(h) => h / pitch.sin(),
+            None => {
+                let radius = width * (0.5f32.powi(2) * 2.0 + WAVE_ROOM.powi(2)).sqrt();
+                radius / (self.narrower_fov() / 2.0).sin()
+            }
+        };
+        centre + Vec3::new(0.0, -pitch.cos(), pitch.sin()) * distance
+    }
+
+    /// The view matrix for `grid`: world (z up) to the camera's right-handed view space.
+    pub fn view(&self, grid: Grid) -> Mat4 {
+        Mat4::look_at_rh(self.eye(grid), patch(grid).0, Vec3::Z)
+    }
+
+    /// The view-projection matrix for `grid` (right-handed, z up, OpenGL clip depth), with the
+    /// near and far planes a patch's width either side of the centre.
+    pub fn view_projection(&self, grid: Grid) -> Mat4 {
+        let (centre, width) = patch(grid);
+        let distance = self.eye(grid).distance(centre);
+        let near = (distance - width).max(distance * 1e-3);
+        let far = distance + width;
+        let projection =
+            Mat4::perspective_rh_gl(self.fov_degrees.to_radians(), self.aspect, near, far);
+        projection * self.view(grid)
+    }
+
+    /// The smaller of the vertical and horizontal fields of view, in radians.
+    fn narrower_fov(&self) -> f32 {
+        let vertical = self.fov_degrees.to_radians();
+        let horizontal = 2.0 * ((vertical / 2.0).tan() * self.aspect).atan();
+        vertical.min(horizontal)
+    }
+}
+
+/// The still patch's centre and width.
+fn patch(grid: Grid) -> (Vec3, f32) {
+    let width = (grid.n - 1) as f32 * grid.spacing;
+    (Vec3::new(width / 2.0, width / 2.0, 0.0), width)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec4;
+
+    fn clip(c: &Camera, grid: Grid, p: Vec3) -> Vec3 {
+        let v = c.view_projection(grid) * Vec4::new(p.x, p.y, p.z, 1.0);
+        v.truncate() / v.w
+    }
+
+    #[test]
+    fn the_default_camera_sees_the_whole_patch_and_its_waves() {
+        for (n, spacing) in [(2, 1.0), (40, 1.0), (256, 1.0), (256, 3.5), (1024, 0.25)] {
+            let grid = Grid::new(n, spacing).unwrap();
+            let w = (n - 1) as f32 * spacing;
+            for aspect in [0.5, 16.0 / 9.0, 4.0] {
+                let c = Camera {
+                    aspect,
+                    ..Camera::default()
+                };
+                for x in [0.0, w] {
+                    for y in [0.0, w] {
+                        for z in [-WAVE_ROOM * w, WAVE_ROOM * w] {
+                            let p = clip(&c, grid, Vec3::new(x, y, z));
+                            assert!(
+                                p.abs().max_element() <= 1.0,
+                                "n {n} spacing {spacing} aspect {aspect}: corner ({x}, {y}, {z}) at {p}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_centre_is_in_the_middle_and_the_height_is_kept() {
+        let grid = Grid::new(64, 2.0).unwrap();
+        let c = Camera {
+            height: Some(40.0),
+            ..Camera::default()
+        };
+        let p = clip(&c, grid, Vec3::new(63.0, 63.0, 0.0));
+        assert!(p.x.abs() < 1e-5 && p.y.abs() < 1e-5, "{p}");
+        assert!((c.eye(grid).z - 40.0).abs() < 1e-3);
+        // The near edge of the patch is lower in the image than the far edge.
+        let near = clip(&c, grid, Vec3::new(63.0, 0.0, 0.0));
+        let far = clip(&c, grid, Vec3::new(63.0, 126.0, 0.0));
+        assert!(near.y < far.y);
+    }
+
+    #[test]
+    fn every_field_out_of_range_is_named() {
+        let bad = [
+            (
+                "pitch_degrees",
+                Camera {
+                    pitch_degrees: 0.0,
+                    ..Camera::default()
+                },
+            ),
+            (
+                "pitch_degrees",
+                Camera {
+                    pitch_degrees: 91.0,
+                    ..Camera::default()
+                },
+            ),
+            (
+                "fov_degrees",
+                Camera {
+                    fov_degrees: f32::NAN,
+                    ..Camera::default()
+                },
+            ),
+            (
+                "fov_degrees",
+                Camera {
+                    fov_degrees: 180.0,
+                    ..Camera::default()
+                },
+            ),
+            (
+                "aspect",
+                Camera {
+                    aspect: 0.0,
+                    ..Camera::default()
+                },
+            ),
+            (
+                "height",
+                Camera {
+                    height: Some(-1.0),
+                    ..Camera::default()
+                },
+            ),
+            (
+                "height",
+                Camera {
+                    height: Some(f32::INFINITY),
+                    ..Camera::default()
+                },
+            ),
+        ];
+        for (field, c) in bad {
+            let e = c.validate().unwrap_err().0;
+            assert!(e.starts_with(&format!("camera.{field}: must be")), "{e}");
+        }
+        Camera::default().validate().unwrap();
+    }
+}
