@@ -581,9 +581,15 @@ fn latest_makes_progress_with_a_slow_helper_and_with_a_slow_main_thread() {
 #[test]
 fn render_draws_the_same_vertex_buffer_in_every_mode_depth_consumption_method_and_helpers() {
     const FEW: u64 = 24;
-    let render = |mut s: LoopSpec| {
+    let analytic = |mode, sync, threading| {
+        let mut s = spec(mode, sync, threading, NormalMethod::Analytic);
         (s.workload_kind, s.workload_amount) = (WorkloadKind::Render, 100);
         s.grid = Grid::new(24, 0.75).unwrap();
+        s
+    };
+    let serial = || analytic(Mode::Serial, SyncMethod::Atomic, Threading::Pool);
+    // The digest of the buffer after `frames` frames, the last mesh index shown, and the cell.
+    let render = |s: LoopSpec, frames: u64| {
         let what = format!(
             "{:?} {:?} {:?} d{} {:?} h{}",
             s.mode,
@@ -594,75 +600,42 @@ fn render_draws_the_same_vertex_buffer_in_every_mode_depth_consumption_method_an
             s.helpers()
         );
         let mut last = None;
-        let run = frame_loop::run(&s, &Budget::exact(FEW), |k, _| last = Some(k))
+        let run = frame_loop::run(&s, &Budget::exact(frames), |k, _| last = Some(k))
             .unwrap_or_else(|e| panic!("{what}: {e}"));
         assert!(
             run.trial.frames.iter().all(|f| f.workload_ns > 0),
             "{what}: render's time is the frame's workload"
         );
-        (run.work_digest, last, what)
+        (run.work_digest, last.expect("frames were shown"), what)
     };
-    let serial = render(spec(
-        Mode::Serial,
-        SyncMethod::Atomic,
-        Threading::Pool,
-        NormalMethod::Analytic,
-    ));
-    let mut shorter = spec(
-        Mode::Serial,
-        SyncMethod::Atomic,
-        Threading::Pool,
-        NormalMethod::Analytic,
-    );
-    shorter.time_step *= 2.0;
-    assert_ne!(render(shorter).0, serial.0, "the buffer follows the mesh");
+    let (expect, _, _) = render(serial(), FEW);
+    let mut slower = serial();
+    slower.time_step *= 2.0;
+    assert_ne!(render(slower, FEW).0, expect, "the buffer follows the mesh");
     for mode in modes() {
         for consume in [Consume::Copy, Consume::Read, Consume::Handle] {
+            let mut cells = Vec::new();
             for depth in 1..=frame_loop::MAX_DEPTH {
                 for sync in SyncMethod::of_policy(Policy::Fifo) {
-                    let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
-                    (s.depth, s.consume) = (depth, consume);
-                    let (digest, _, what) = render(s);
-                    assert_eq!(digest, serial.0, "{what}");
+                    cells.push((analytic(mode, sync, Threading::Pool), depth, 1));
                 }
             }
-            let mut spawned = spec(
-                mode,
-                SyncMethod::Atomic,
-                Threading::Spawn,
-                NormalMethod::Analytic,
-            );
-            spawned.consume = consume;
-            let (digest, _, what) = render(spawned);
-            assert_eq!(digest, serial.0, "{what}");
-            let mut split = spec(
-                mode,
-                SyncMethod::Condvar,
-                Threading::Pool,
-                NormalMethod::Analytic,
-            );
-            (split.consume, split.depth, split.helper_cores) = (consume, 2, with_helpers(mode, 3));
-            let (digest, _, what) = render(split);
-            assert_eq!(digest, serial.0, "{what}");
+            cells.push((analytic(mode, SyncMethod::Atomic, Threading::Spawn), 1, 1));
+            cells.push((analytic(mode, SyncMethod::Condvar, Threading::Pool), 2, 3));
+            for (mut s, depth, helpers) in cells {
+                (s.depth, s.consume) = (depth, consume);
+                s.helper_cores = with_helpers(mode, helpers);
+                let (digest, _, what) = render(s, FEW);
+                assert_eq!(digest, expect, "{what}");
+            }
         }
         for sync in SyncMethod::of_policy(Policy::Latest) {
-            let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
+            let mut s = analytic(mode, sync, Threading::Pool);
             s.policy = Policy::Latest;
-            let (digest, last, what) = render(s);
+            let (digest, last, what) = render(s, FEW);
             // The serial loop run up to the mesh `latest` showed last draws the same buffer.
-            let frames = last.expect("frames were shown") + 1;
-            let mut serial = spec(
-                Mode::Serial,
-                SyncMethod::Atomic,
-                Threading::Pool,
-                NormalMethod::Analytic,
-            );
-            (serial.workload_kind, serial.workload_amount) = (WorkloadKind::Render, 100);
-            serial.grid = Grid::new(24, 0.75).unwrap();
-            let expect = frame_loop::run(&serial, &Budget::exact(frames), |_, _| {})
-                .unwrap()
-                .work_digest;
-            assert_eq!(digest, expect, "{what}: the buffer of mesh {}", frames - 1);
+            let (drawn, _, _) = render(serial(), last + 1);
+            assert_eq!(digest, drawn, "{what}: the buffer of mesh {last}");
         }
     }
 }
