@@ -180,7 +180,7 @@ pub struct Comparison {
 #[derive(Debug, PartialEq, thiserror::Error)]
 pub enum CompareError {
     /// The baseline is not a value of the parameter at all.
-    #[error("'{baseline}' is not a {by} value; this run has {by}: {present}")]
+    #[error("'{baseline}' is not a value of {by}; this run has {by}: {present}")]
     UnknownBaseline {
         /// The varied parameter.
         by: &'static str,
