@@ -184,8 +184,9 @@ impl Placement {
 
 /// The layout of results.json this build writes. Every change to the layout bumps it; files
 /// of every earlier version still load, and a file of a later one is refused rather than
-/// misread. 2: cells carry `workload_kind`, `workload_unit` and `workload_amount`, and the
-/// config `camera`; absent, they mean the synthetic workload in iterations and the default camera.
+/// misread. 2: cells carry `ocean`, `workload_kind`, `workload_unit` and `workload_amount`, and
+/// the config `camera`; absent, they mean the sums of sines, the synthetic workload in iterations
+/// and the default camera.
 pub const SCHEMA_VERSION: u32 = 2;
 
 /// Files written before the field existed have today's layout, version 1.
