@@ -186,8 +186,8 @@ impl Placement {
 /// of every earlier version still load, and a file of a later one is refused rather than
 /// misread. 2: cells carry `ocean`, `workload_kind`, `workload_unit` and `workload_amount`, and
 /// the config `camera`; absent, they mean the sums of sines, the synthetic workload in iterations
-/// and the default camera.
-pub const SCHEMA_VERSION: u32 = 2;
+/// and the default camera. 3: the run records its `command` line; absent, it was not recorded.
+pub const SCHEMA_VERSION: u32 = 3;
 
 /// Files written before the field existed have today's layout, version 1.
 fn version_1() -> u32 {
@@ -202,6 +202,9 @@ pub struct Results {
     pub schema_version: u32,
     /// The machine measured on.
     pub machine: Machine,
+    /// The command line that started the run, program first (absent before schema 3).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub command: Option<Vec<String>>,
     /// The config as run.
     pub config: SweepConfig,
     /// Workload and step calibration.
