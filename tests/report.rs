@@ -2,6 +2,7 @@
 //! run can draw, the config's text escaped, the comparison with a baseline; bad input is one
 //! line, exit 2 and nothing written; sweep writes the page and records its command line.
 
+use oceanbench::cell::Dim;
 use oceanbench::report::chart::{self, ChartOptions};
 use oceanbench::report::compare::{self, Metric};
 use oceanbench::report::html::{self, Baseline};
@@ -84,6 +85,11 @@ fn every_cell_is_in_the_fps_and_frame_time_tables() {
     assert_eq!(frames[0].len(), r.cells.len());
     let measured = r.cells.iter().filter(|c| c.summary.is_some()).count();
     assert!(measured > 0);
+    // Rows name a cell without what every cell shares, which the caption names once.
+    let held: Vec<Dim> = html::held_dims(&r).iter().map(|&(d, _)| d).collect();
+    assert!(held.contains(&Dim::Kernel) && !held.contains(&Dim::Sync));
+    let labels: std::collections::HashSet<&String> = frames[0].iter().map(|row| &row[0]).collect();
+    assert_eq!(labels.len(), r.cells.len(), "every row names its own cell");
     for c in &r.cells {
         let Some(s) = &c.summary else { continue };
         // Its FPS with its spread, in the row of its mesh and workload of some FPS table.
@@ -97,7 +103,7 @@ fn every_cell_is_in_the_fps_and_frame_time_tables() {
         assert!(found, "{} ({figure}) is in no FPS table", c.key.label());
         let row = frames[0]
             .iter()
-            .find(|row| row[0] == c.key.label())
+            .find(|row| row[0] == c.key.label_without(&held))
             .unwrap_or_else(|| panic!("{} has no frame-time row", c.key.label()));
         assert_eq!(row[1], format!("{:.3}", s.frame_time_ms.median));
         assert_eq!(row[2], format!("{:.3}", s.frame_time_ms.p99));

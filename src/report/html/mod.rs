@@ -9,7 +9,7 @@
 use super::chart::{self, ChartError, ChartOptions, NothingToDraw};
 use super::compare::{Comparison, Verdict};
 use super::markdown::{self, Table, NOISY};
-use crate::cell::Dim;
+use crate::cell::{Dim, Value};
 use crate::results::{Cell, Results};
 use maud::{html, Markup, PreEscaped, DOCTYPE};
 
@@ -215,8 +215,29 @@ fn warnings(results: &Results) -> Vec<String> {
     out
 }
 
-/// Per measured cell: median and p99 frame time and the three 1 % lows.
+/// The dimensions besides size, workload and mode at one value in every cell that has them: a
+/// long table names them once in its title instead of in every row.
+pub fn held_dims(results: &Results) -> Vec<(Dim, Value)> {
+    Dim::ALL
+        .iter()
+        .filter(|d| ![Dim::Size, Dim::Workload, Dim::Mode].contains(d))
+        .filter_map(|&d| {
+            let mut values = results.cells.iter().filter_map(|c| c.key.get(d));
+            let first = values.next()?;
+            values.all(|v| v == first).then_some((d, first))
+        })
+        .collect()
+}
+
+/// Per cell: median and p99 frame time and the three 1 % lows.
 fn frame_metrics(results: &Results) -> Table {
+    let held = held_dims(results);
+    let skip: Vec<Dim> = held.iter().map(|&(d, _)| d).collect();
+    let named: Vec<String> = held
+        .iter()
+        .filter(|&&(d, v)| Some(v) != d.quiet())
+        .map(|&(d, v)| d.title(v))
+        .collect();
     let header = [
         "cell",
         "median frame time (ms)",
@@ -226,7 +247,7 @@ fn frame_metrics(results: &Results) -> Table {
         "1 % low integral (FPS)",
     ];
     let row = |c: &Cell| -> Vec<String> {
-        let mut row = vec![c.key.label()];
+        let mut row = vec![c.key.label_without(&skip)];
         let Some(s) = &c.summary else {
             row.push(format!(
                 "failed: {}",
@@ -251,7 +272,11 @@ fn frame_metrics(results: &Results) -> Table {
         row
     };
     Table {
-        title: "Frame-time metrics per cell".into(),
+        title: if named.is_empty() {
+            "Frame-time metrics per cell".into()
+        } else {
+            format!("Frame-time metrics per cell, {}", named.join(", "))
+        },
         header: header.map(String::from).to_vec(),
         numeric: header.map(|h| h != "cell").to_vec(),
         rows: results.cells.iter().map(row).collect(),
