@@ -113,18 +113,14 @@ fn every_cell_is_in_the_fps_and_frame_time_tables() {
 #[test]
 fn noisy_cells_carry_the_markdown_mark() {
     let r = Results::load(&root().join("results/figure-5-1-20261125T064618Z")).unwrap();
-    let noisy: Vec<_> = r
-        .cells
-        .iter()
-        .filter(|c| c.noise.as_ref().is_some_and(|n| n.noisy_trials() > 0))
-        .collect();
+    let noisy: Vec<_> = r.cells.iter().filter(|c| c.noisy()).collect();
     assert!(!noisy.is_empty(), "the reference run has noisy cells");
     let doc = page(&r);
     let marked = tables(&doc, "FPS, ")
         .iter()
         .flatten()
         .flat_map(|row| row[2..5].to_vec())
-        .filter(|v| v.ends_with(markdown::NOISY))
+        .filter(|v| v.contains(markdown::NOISY))
         .count();
     assert_eq!(marked, noisy.len());
 }
@@ -372,4 +368,41 @@ fn every_committed_run_carries_its_report() {
             );
         }
     }
+}
+
+#[test]
+fn a_balance_point_gets_its_section() {
+    use oceanbench::balance::record::BalanceEntry;
+    let mut r = fixture();
+    let key = r
+        .cells
+        .iter()
+        .find(|c| !c.key.is_serial())
+        .unwrap()
+        .key
+        .clone();
+    r.balance.push(BalanceEntry {
+        key,
+        step_us: 400.0,
+        balance_us: Some(500.0),
+        balance_us_low: Some(480.0),
+        balance_us_high: Some(520.0),
+        dp_over_serial: Some(1.8),
+        dp_over_serial_low: Some(1.7),
+        dp_over_serial_high: Some(1.9),
+        dp_over_up: None,
+        overhead_percent: Some(3.0),
+        round_trip_ns: vec![100.0, 110.0],
+        note: None,
+        probes: Vec::new(),
+    });
+    let doc = page(&r);
+    let balance = tables(&doc, "Balance points");
+    assert_eq!(balance.len(), 1);
+    assert_eq!(balance[0].len(), 1);
+    assert_eq!(balance[0][0][2], "500 [480, 520]");
+    assert_eq!(balance[0][0][4], "1.80 [1.70, 1.90]");
+    // With no probes the chart has nothing to draw, and the section says why.
+    assert!(doc.select(&sel("#chart-balance")).next().is_some());
+    assert_eq!(tables(&page(&fixture()), "Balance points").len(), 0);
 }

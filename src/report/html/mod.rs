@@ -8,7 +8,7 @@
 
 use super::chart::{self, ChartError, ChartOptions, NothingToDraw};
 use super::compare::{Comparison, Verdict};
-use super::markdown::{self, Table, NOISY};
+use super::markdown::{self, Table, NOISY, UNEXPLAINED};
 use crate::cell::{Dim, Value};
 use crate::results::{Cell, Results};
 use maud::{html, Markup, PreEscaped, DOCTYPE};
@@ -77,7 +77,9 @@ pub fn page(
                 p.note {
                     "FPS = frames ÷ seconds over every trial; ± is the spread (coefficient of variation) over trials; "
                     (NOISY) " marks a cell that kept a trial in which other tasks or the hypervisor took more than "
-                    (results.config.noise_threshold_percent) " % of the time; DP÷UP and DP÷serial are ratios of FPS."
+                    (results.config.noise_threshold_percent) " % of the time, " (UNEXPLAINED)
+                    " a cell with a slow trial that nothing recorded explains (results.md lists the slow trials); "
+                    "DP÷UP and DP÷serial are ratios of FPS."
                 }
                 @for t in markdown::fps_tables(results) { (table(&t)) }
                 h2 { "Frame times" }
