@@ -406,3 +406,60 @@ fn a_balance_point_gets_its_section() {
     assert!(doc.select(&sel("#chart-balance")).next().is_some());
     assert_eq!(tables(&page(&fixture()), "Balance points").len(), 0);
 }
+
+#[test]
+fn slow_trials_and_every_noisy_cell_are_listed() {
+    use oceanbench::slow_trials::{Cause, Slow, TrialRecord};
+    // The reference run has more noisy cells than its warning names; the page lists them all.
+    let r = Results::load(&root().join("results/figure-5-1-20261125T064618Z")).unwrap();
+    let noisy: Vec<String> = r
+        .cells
+        .iter()
+        .filter(|c| c.noisy())
+        .map(|c| c.key.label())
+        .collect();
+    assert!(noisy.len() > 5);
+    let doc = page(&r);
+    let items: Vec<String> = doc.select(&sel("#noisy-cells li")).map(text).collect();
+    assert_eq!(items.len(), noisy.len());
+    for (item, label) in items.iter().zip(&noisy) {
+        assert!(item.starts_with(&format!("{label}: ")), "{item}");
+    }
+    assert_eq!(tables(&doc, "Slow trials").len(), 0);
+
+    let mut r = fixture();
+    // A threaded cell: a serial one stands in every table of its row.
+    let cell = r.cells.iter_mut().find(|c| !c.key.is_serial()).unwrap();
+    let breakdown = cell.summary.as_ref().unwrap().breakdown.clone();
+    cell.trials = vec![TrialRecord {
+        fps: 12.5,
+        breakdown,
+        step_ratio: Some(1.25),
+        workload_ratio: None,
+        round_trip_ns: None,
+        taken_away: false,
+        slow: Some(Slow {
+            below_median_percent: 40.0,
+            causes: vec![Cause::Unexplained],
+        }),
+    }];
+    let label = cell.key.label();
+    let doc = page(&r);
+    let slow = tables(&doc, "Slow trials");
+    assert_eq!(slow.len(), 1);
+    assert_eq!(slow[0].len(), 1);
+    let row = &slow[0][0];
+    assert_eq!(
+        (&row[0], &row[2], &row[3]),
+        (&label, &"12.5".to_string(), &"40%".to_string())
+    );
+    assert!(row[4].contains("unexplained"), "{row:?}");
+    let marked = tables(&doc, "FPS, ")
+        .iter()
+        .flatten()
+        .flat_map(|row| row[2..5].to_vec())
+        .filter(|v| v.contains(markdown::UNEXPLAINED))
+        .count();
+    assert_eq!(marked, 1);
+    assert_eq!(doc.select(&sel("#noisy-cells")).count(), 0);
+}

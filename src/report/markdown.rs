@@ -271,6 +271,24 @@ fn slow_trial_warning(results: &Results) -> Option<String> {
 /// only the worst.
 fn slow_and_noisy(results: &Results) -> String {
     let mut out = String::new();
+    if let Some(t) = slow_trials(results) {
+        out.push('\n');
+        out.push_str(t.to_markdown().trim_end_matches('\n'));
+        out.push('\n');
+    }
+    let noisy = noisy_cells(results);
+    if !noisy.is_empty() {
+        let _ = writeln!(out, "\n### Noisy cells\n");
+        for line in noisy {
+            let _ = writeln!(out, "- {line}");
+        }
+    }
+    out
+}
+
+/// Every slow trial: its cell, FPS, how far below the cell's median, its causes and their
+/// evidence; `None` when no trial was slow.
+pub fn slow_trials(results: &Results) -> Option<Table> {
     let slow: Vec<(&Cell, usize, &TrialRecord, &Slow)> = results
         .cells
         .iter()
@@ -281,13 +299,24 @@ fn slow_and_noisy(results: &Results) -> String {
                 .filter_map(move |(i, t)| Some((c, i, t, t.slow.as_ref()?)))
         })
         .collect();
-    if !slow.is_empty() {
-        let _ = writeln!(
-            out,
-            "\n### Slow trials\n\n| cell | trial | FPS | below median | causes | off core / steal | step ÷ median | workload ÷ calibration | round trip before / after |\n|---|---:|---:|---:|---|---:|---:|---:|---:|"
-        );
-        let ratio = |r: Option<f64>| r.map_or("–".to_string(), |r| format!("{r:.2}"));
-        for (c, i, t, s) in slow {
+    if slow.is_empty() {
+        return None;
+    }
+    let header = [
+        "cell",
+        "trial",
+        "FPS",
+        "below median",
+        "causes",
+        "off core / steal",
+        "step ÷ median",
+        "workload ÷ calibration",
+        "round trip before / after",
+    ];
+    let ratio = |r: Option<f64>| r.map_or("–".to_string(), |r| format!("{r:.2}"));
+    let rows = slow
+        .into_iter()
+        .map(|(c, i, t, s)| {
             let noise = c.noise.as_ref().and_then(|n| n.trials.get(i));
             let causes: Vec<&str> = s.causes.iter().map(|c| c.name()).collect();
             let taken = noise.map_or("–".to_string(), |n| {
@@ -296,37 +325,49 @@ fn slow_and_noisy(results: &Results) -> String {
             let trips = t
                 .round_trip_ns
                 .map_or("–".to_string(), |[a, b]| format!("{a:.0} / {b:.0} ns"));
-            let _ = writeln!(
-                out,
-                "| {} | {} | {:.1} | {:.0}% | {} | {taken} | {} | {} | {trips} |",
+            vec![
                 c.key.label(),
-                i + 1,
-                t.fps,
-                s.below_median_percent,
+                (i + 1).to_string(),
+                format!("{:.1}", t.fps),
+                format!("{:.0}%", s.below_median_percent),
                 causes.join(", "),
+                taken,
                 ratio(t.step_ratio),
                 ratio(t.workload_ratio),
-            );
-        }
-    }
+                trips,
+            ]
+        })
+        .collect();
+    Some(Table {
+        title: "Slow trials".into(),
+        header: header.map(String::from).to_vec(),
+        numeric: header.map(|h| !matches!(h, "cell" | "causes")).to_vec(),
+        rows,
+        notes: Vec::new(),
+    })
+}
+
+/// One line per noisy cell (its trials, the most taken from it), when there are more than the
+/// noise warning names; empty otherwise.
+pub fn noisy_cells(results: &Results) -> Vec<String> {
     let noisy: Vec<&Cell> = results.cells.iter().filter(|c| c.noisy()).collect();
-    if noisy.len() > WORST_NAMED {
-        let _ = writeln!(out, "\n### Noisy cells\n");
-        for c in noisy {
-            if let Some(n) = &c.noise {
-                let _ = writeln!(
-                    out,
-                    "- {}: {} of {} trials, off its core up to {:.1}%, steal up to {:.1}%",
-                    c.key.label(),
-                    n.noisy_trials(),
-                    n.trials.len(),
-                    n.preempted_percent(),
-                    n.steal_percent()
-                );
-            }
-        }
+    if noisy.len() <= WORST_NAMED {
+        return Vec::new();
     }
-    out
+    noisy
+        .iter()
+        .filter_map(|c| {
+            let n = c.noise.as_ref()?;
+            Some(format!(
+                "{}: {} of {} trials, off its core up to {:.1}%, steal up to {:.1}%",
+                c.key.label(),
+                n.noisy_trials(),
+                n.trials.len(),
+                n.preempted_percent(),
+                n.steal_percent()
+            ))
+        })
+        .collect()
 }
 
 /// The whole markdown report.

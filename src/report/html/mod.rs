@@ -78,10 +78,16 @@ pub fn page(
                     "FPS = frames ÷ seconds over every trial; ± is the spread (coefficient of variation) over trials; "
                     (NOISY) " marks a cell that kept a trial in which other tasks or the hypervisor took more than "
                     (results.config.noise_threshold_percent) " % of the time, " (UNEXPLAINED)
-                    " a cell with a slow trial that nothing recorded explains (results.md lists the slow trials); "
+                    " a cell with a slow trial that nothing recorded explains; "
                     "DP÷UP and DP÷serial are ratios of FPS."
                 }
                 @for t in markdown::fps_tables(results) { (table(&t)) }
+                @if let Some(t) = markdown::slow_trials(results) { (table(&t)) }
+                @let noisy = markdown::noisy_cells(results);
+                @if !noisy.is_empty() {
+                    h3 { "Noisy cells" }
+                    ul id="noisy-cells" { @for line in &noisy { li { (line) } } }
+                }
                 h2 { "Frame times" }
                 (table(&frame_metrics(results)))
                 (chart("frame-times"))
