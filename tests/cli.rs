@@ -101,7 +101,7 @@ fn bad_configs_exit_2_naming_the_field() {
             vec!["waves[0].wavelength"],
         ),
         (r#"{"sync": ["atomic", "atomic"]}"#, vec!["sync", "twice"]),
-        (r#"{"ocean": ["fft"]}"#, vec!["ocean[0]", "fft", "sines"]),
+        (r#"{"ocean": ["fourier"]}"#, vec!["ocean[0]", "fourier", "sines, fft"]),
         (r#"{"ocean": ["sines", "sines"]}"#, vec!["ocean", "twice"]),
         (
             r#"{"workload_kind": ["synthetic", "fog"]}"#,

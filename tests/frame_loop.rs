@@ -4,7 +4,7 @@
 use oceanbench::affinity;
 use oceanbench::camera::Camera;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
-use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, WaveSet};
+use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, OceanParams};
 use oceanbench::sync::{Policy, SyncMethod};
 use oceanbench::workload::WorkloadKind;
 use std::time::Duration;
@@ -16,7 +16,7 @@ fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMetho
     LoopSpec {
         grid: Grid::new(9, 0.75).unwrap(),
         ocean: OceanKind::Sines,
-        waves: WaveSet::default(),
+        params: OceanParams::default(),
         normals,
         kernel: Kernel::Reference,
         mode,
@@ -469,7 +469,7 @@ fn latest_meshes_are_the_serial_mesh_of_their_index_and_indices_never_decrease()
                 );
                 let model = s.ocean.model();
                 let mut ocean = model
-                    .prepare(s.grid, &s.waves, s.normals, s.kernel)
+                    .prepare(s.grid, &s.params, s.normals, s.kernel)
                     .unwrap();
                 let mut want = model.mesh(s.grid);
                 for (k, mesh) in &seen {

@@ -4,8 +4,18 @@
 
 use super::mesh::{Grid, Mesh, MeshRows};
 use super::normals::NormalMethod;
+use super::phillips::FftParams;
 use super::waves::WaveSet;
 use crate::input::InputError;
+
+/// The run's inputs every model may read: each model takes its own.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OceanParams {
+    /// The sines' waves.
+    pub waves: WaveSet,
+    /// The FFT ocean's spectrum and choppiness.
+    pub fft: FftParams,
+}
 
 crate::named! {
     /// Which implementation of a model fills heights (and analytic normals).
@@ -46,7 +56,7 @@ pub trait Model: Sync {
     fn prepare(
         &self,
         grid: Grid,
-        waves: &WaveSet,
+        params: &OceanParams,
         normals: NormalMethod,
         kernel: Kernel,
     ) -> Result<Box<dyn Stepper>, InputError>;
