@@ -9,6 +9,7 @@ pub mod phillips;
 pub mod sines;
 pub mod waves;
 
+pub use fft::FftOcean;
 pub use mesh::{Grid, Mesh, MeshRows};
 pub use model::{Kernel, Model, OceanParams, Stepper};
 pub use normals::NormalMethod;
