@@ -438,6 +438,8 @@ fn shipped_configs_are_valid_and_figure_5_1_is_the_default() {
         "sync-primitives.json",
         "ci.json",
         "figure-5-1-fast.json",
+        "figure-5-1-fft.json",
+        "fft-scaling.json",
     ] {
         SweepConfig::load(&root.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
     }

@@ -156,7 +156,9 @@ impl Terms {
     /// h̃(k, t) = h̃₀(k)·e^{iωt} + conj(h̃₀(−k))·e^{−iωt} at element e.
     fn coefficient(&self, e: usize, t: f64) -> Complex<f32> {
         let phase = self.omega[e] * t;
-        let (s, c) = ((phase - TAU * (phase / TAU).floor()) as f32).sin_cos();
+        // Whole turns dropped by truncation (a cast, where `floor` is a libm call on the
+        // baseline x86-64 target): the rest lies within one turn of 0 either side.
+        let (s, c) = ((phase - TAU * (phase / TAU) as i64 as f64) as f32).sin_cos();
         let turn = Complex::new(c, s);
         self.h0[e] * turn + self.h0_minus[e] * turn.conj()
     }
@@ -242,39 +244,56 @@ impl FftState {
         let n = self.n;
         let lambda = self.choppiness;
         let analytic = self.normals == NormalMethod::Analytic;
-        let first = rows.first_row * n;
-        for v in 0..rows.z.len() {
-            let e = first + v;
-            let (i, j) = (e / n, e % n);
-            let [hd, dxy, slope, dd] = [
-                self.fields[0][e],
-                self.fields[1][e],
-                self.fields[2][e],
-                self.fields[3][e],
-            ];
-            rows.x[v] = j as f32 * self.spacing + lambda * dxy.re;
-            rows.y[v] = i as f32 * self.spacing + lambda * dxy.im;
-            rows.z[v] = hd.re;
-            // The Jacobian of (x, y) ↦ (x + λDx, y + λDy): [[a, b], [b, d]].
-            let a = 1.0 + lambda * dd.re;
-            let d = 1.0 + lambda * dd.im;
-            let b = lambda * (hd.im / self.terms.dxy_scale);
-            rows.fold[v] = a * d - b * b;
-            // The eigenvector of the larger eigenvalue lies at ½·atan2(2b, a − d); the smaller
-            // one's, where the surface compresses, is perpendicular to it.
-            let (sin, cos) = (0.5 * (2.0 * b).atan2(a - d)).sin_cos();
-            rows.fold_dx[v] = -sin;
-            rows.fold_dy[v] = cos;
-            if analytic {
-                // The cross product of the displaced surface's tangents ∂/∂x and ∂/∂y.
-                let tx = Vec3::new(a, b, slope.re);
-                let ty = Vec3::new(b, d, slope.im);
-                let normal = tx.cross(ty).normalize_or(Vec3::Z);
-                rows.nx[v] = normal.x;
-                rows.ny[v] = normal.y;
-                rows.nz[v] = normal.z;
+        let [hd, dxy, slope, dd] = &self.fields;
+        // Exact: the scale is a power of two.
+        let unscale = 1.0 / self.terms.dxy_scale;
+        for r in 0..rows.rows() {
+            let i = rows.first_row + r;
+            for j in 0..n {
+                let (v, e) = (r * n + j, i * n + j);
+                let (hd, dxy, slope, dd) = (hd[e], dxy[e], slope[e], dd[e]);
+                rows.x[v] = j as f32 * self.spacing + lambda * dxy.re;
+                rows.y[v] = i as f32 * self.spacing + lambda * dxy.im;
+                rows.z[v] = hd.re;
+                // The Jacobian of (x, y) ↦ (x + λDx, y + λDy): [[a, b], [b, d]].
+                let a = 1.0 + lambda * dd.re;
+                let d = 1.0 + lambda * dd.im;
+                let b = lambda * hd.im * unscale;
+                rows.fold[v] = a * d - b * b;
+                let (dx, dy) = compressing_direction(a, b, d);
+                rows.fold_dx[v] = dx;
+                rows.fold_dy[v] = dy;
+                if analytic {
+                    // The cross product of the displaced surface's tangents ∂/∂x and ∂/∂y.
+                    let tx = Vec3::new(a, b, slope.re);
+                    let ty = Vec3::new(b, d, slope.im);
+                    let normal = tx.cross(ty).normalize_or(Vec3::Z);
+                    rows.nx[v] = normal.x;
+                    rows.ny[v] = normal.y;
+                    rows.nz[v] = normal.z;
+                }
             }
         }
+    }
+}
+
+/// The unit eigenvector of the smaller eigenvalue of the symmetric [[a, b], [b, d]], the
+/// direction in which the surface compresses; (0, 1) where every direction is one.
+fn compressing_direction(a: f32, b: f32, d: f32) -> (f32, f32) {
+    let half = 0.5 * (a - d);
+    let r = (half * half + b * b).sqrt();
+    // Of the two rows of M − μI, μ = (a + d)/2 − r, the one with the larger diagonal entry
+    // (h + r or r − h) gives the eigenvector without cancellation.
+    let (x, y) = if half >= 0.0 {
+        (-b, half + r)
+    } else {
+        (r - half, -b)
+    };
+    let len = (x * x + y * y).sqrt();
+    if len > 0.0 {
+        (x / len, y / len)
+    } else {
+        (0.0, 1.0)
     }
 }
 

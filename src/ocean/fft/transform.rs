@@ -1,13 +1,10 @@
 //! The inverse 2-D FFT of an N×N field: rustfft's plan made once, a pass over every row, an
-//! in-place transpose, and a second pass over every row.
+//! out-of-place transpose (the `transpose` crate's cache-oblivious one) into a spare buffer that
+//! then takes the field's place, and a second pass over every row.
 
 use rustfft::num_complex::Complex;
 use rustfft::{Fft, FftPlanner};
 use std::sync::Arc;
-
-/// Side of the square tiles the transpose swaps: 32 × 32 complex f32 is 8 KiB, two tiles fit
-/// in L1 together.
-const TILE: usize = 32;
 
 /// An unnormalised inverse 2-D transform, out[i][j] = Σ_a Σ_b in[b][a] e^{2πi(a·i + b·j)/N}:
 /// its input is laid out transposed (row b holds the coefficients of x-wavenumber index b), so
@@ -17,6 +14,8 @@ pub struct Inverse2d {
     n: usize,
     fft: Arc<dyn Fft<f32>>,
     scratch: Vec<Complex<f32>>,
+    /// The transpose's destination, swapped with the field it transposes.
+    spare: Vec<Complex<f32>>,
 }
 
 impl std::fmt::Debug for Inverse2d {
@@ -30,14 +29,21 @@ impl Inverse2d {
     pub fn new(n: usize) -> Self {
         let fft = FftPlanner::new().plan_fft_inverse(n);
         let scratch = vec![Complex::default(); fft.get_inplace_scratch_len()];
-        Inverse2d { n, fft, scratch }
+        Inverse2d {
+            n,
+            fft,
+            scratch,
+            spare: vec![Complex::default(); n * n],
+        }
     }
 
-    /// Transforms one field of N² values in place (layout: see [`Inverse2d`]).
-    pub fn process(&mut self, field: &mut [Complex<f32>]) {
+    /// Transforms one field of N² values (layout: see [`Inverse2d`]); the field's buffer
+    /// afterwards is another of the same size.
+    pub fn process(&mut self, field: &mut Vec<Complex<f32>>) {
         assert_eq!(field.len(), self.n * self.n, "an N×N field");
         self.rows(field);
-        transpose(field, self.n);
+        transpose::transpose(field, &mut self.spare, self.n, self.n);
+        std::mem::swap(field, &mut self.spare);
         self.rows(field);
     }
 
@@ -47,51 +53,24 @@ impl Inverse2d {
     }
 }
 
-/// Transposes a square N×N matrix in place, tile by tile so both tiles stay in cache.
-pub fn transpose(m: &mut [Complex<f32>], n: usize) {
-    for ib in (0..n).step_by(TILE) {
-        for jb in (ib..n).step_by(TILE) {
-            for i in ib..(ib + TILE).min(n) {
-                let from = if ib == jb { i + 1 } else { jb };
-                for j in from..(jb + TILE).min(n) {
-                    m.swap(i * n + j, j * n + i);
-                }
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn transpose_swaps_every_pair_once() {
-        for n in [1, 5, 32, 33, 70] {
-            let m: Vec<Complex<f32>> = (0..n * n).map(|v| Complex::new(v as f32, 0.0)).collect();
-            let mut t = m.clone();
-            transpose(&mut t, n);
+    fn one_coefficient_gives_one_plane_wave() {
+        for n in [16, 40] {
+            let mut field = vec![Complex::default(); n * n];
+            let (a, b) = (3, 5);
+            field[b * n + a] = Complex::new(1.0, 0.0);
+            Inverse2d::new(n).process(&mut field);
             for i in 0..n {
                 for j in 0..n {
-                    assert_eq!(t[i * n + j], m[j * n + i], "n={n} ({i}, {j})");
+                    let angle = 2.0 * std::f64::consts::PI * (a * i + b * j) as f64 / n as f64;
+                    let got = field[i * n + j];
+                    assert!((got.re as f64 - angle.cos()).abs() < 1e-5, "({i}, {j})");
+                    assert!((got.im as f64 - angle.sin()).abs() < 1e-5, "({i}, {j})");
                 }
-            }
-        }
-    }
-
-    #[test]
-    fn one_coefficient_gives_one_plane_wave() {
-        let n = 16;
-        let mut field = vec![Complex::default(); n * n];
-        let (a, b) = (3, 5);
-        field[b * n + a] = Complex::new(1.0, 0.0);
-        Inverse2d::new(n).process(&mut field);
-        for i in 0..n {
-            for j in 0..n {
-                let angle = 2.0 * std::f64::consts::PI * (a * i + b * j) as f64 / n as f64;
-                let got = field[i * n + j];
-                assert!((got.re as f64 - angle.cos()).abs() < 1e-5, "({i}, {j})");
-                assert!((got.im as f64 - angle.sin()).abs() < 1e-5, "({i}, {j})");
             }
         }
     }
