@@ -1,13 +1,14 @@
 //! Criterion benches of the FFT ocean at 512² beside rustfft alone: the model's transforms
 //! (the four packed spectra at t, then per field a row pass, a transpose and a row pass), the
 //! same four fields' row passes alone (2N transforms of length N per field, no transposes, no
-//! packing: the floor), and whole steps with `analytic` and `neighbors` normals.
+//! packing: the floor), and whole steps with `analytic` and `neighbors` normals; and whole
+//! steps at 64², 256² and 512².
 //!
 //! `cargo bench --bench fft -- --quick`. Each 2-D complex transform of M = N² points counts
 //! 5·M·log₂M flops, four per step; criterion's throughput is in those flops, so its
 //! "elem/s" reads as flops per second.
 
-use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use oceanbench::ocean::fft::spectrum::Spectrum;
 use oceanbench::ocean::fft::FftState;
 use oceanbench::ocean::{FftOcean, FftParams, Grid, Model, NormalMethod, OceanParams};
@@ -70,5 +71,28 @@ fn fft_512(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, fft_512);
+/// Whole steps with `analytic` normals at the sizes of `configs/figure-5-1-fft.json`, whose
+/// workload levels are placed around them.
+fn steps(c: &mut Criterion) {
+    let mut group = c.benchmark_group("fft-step-analytic");
+    for n in [64, 256, 512] {
+        group.throughput(Throughput::Elements(flops(n)));
+        let grid = Grid::new(n, 1.0).unwrap();
+        let mut stepper = FftOcean
+            .prepare(
+                grid,
+                &OceanParams::default(),
+                NormalMethod::Analytic,
+                oceanbench::ocean::Kernel::Reference,
+            )
+            .unwrap();
+        let mut mesh = FftOcean.mesh(grid);
+        group.bench_function(BenchmarkId::from_parameter(n), |b| {
+            b.iter(|| stepper.step(black_box(1.5), &mut mesh))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, fft_512, steps);
 criterion_main!(benches);
