@@ -135,6 +135,10 @@ pub struct NoiseArgs {
     /// Re-run a noisy trial up to N times, 0 to 10 (config key `retry_noisy`, default 0).
     #[arg(long, value_name = "N")]
     pub retry_noisy: Option<u32>,
+    /// A trial more than this percentage below its cell's median FPS is slow and explained
+    /// (config key `slow_trial_percent`, default 10).
+    #[arg(long, value_name = "PERCENT")]
+    pub slow_trial_percent: Option<f64>,
 }
 
 impl NoiseArgs {
@@ -148,6 +152,9 @@ impl NoiseArgs {
         }
         if let Some(n) = self.retry_noisy {
             config.retry_noisy = n;
+        }
+        if let Some(p) = self.slow_trial_percent {
+            config.slow_trial_percent = p;
         }
     }
 }

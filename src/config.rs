@@ -199,6 +199,8 @@ pub struct SweepConfig {
     pub noise_threshold_percent: f64,
     /// Times a noisy trial is re-run before it is kept anyway (0 to 10).
     pub retry_noisy: u32,
+    /// A trial more than this percentage below its cell's median FPS is slow, and is explained.
+    pub slow_trial_percent: f64,
     /// When present, the sweep also finds each size's balance point (see `oceanbench balance`).
     pub balance: Option<BalanceSettings>,
     /// The camera the `render` workload looks through.
@@ -228,6 +230,7 @@ impl Default for SweepConfig {
             calibrate: Calibrate::Row,
             noise_threshold_percent: 2.0,
             retry_noisy: 0,
+            slow_trial_percent: crate::slow_trials::DEFAULT_THRESHOLD_PERCENT,
             balance: None,
             camera: Camera::default(),
         }
@@ -493,6 +496,7 @@ impl SweepConfig {
                 self.noise_threshold_percent
             )));
         }
+        crate::slow_trials::check_threshold(self.slow_trial_percent)?;
         if self.retry_noisy > 10 {
             return Err(InputError(format!(
                 "retry_noisy: must be 0 to 10, got {}",

@@ -11,6 +11,10 @@ use std::time::Instant;
 /// Round trips per timed batch: large enough that reading the clock costs nothing.
 const BATCH: u64 = 200;
 
+/// Slowest ÷ fastest median round trip that still counts as the same placement: further apart,
+/// the two cores moved between near and far.
+pub const PLACEMENT_CHANGE_RATIO: f64 = 2.0;
+
 #[repr(align(128))]
 struct Line(AtomicU64);
 

@@ -22,6 +22,7 @@ pub mod ocean;
 pub mod report;
 pub mod results;
 pub mod sched;
+pub mod slow_trials;
 pub mod stats;
 pub mod suggest;
 pub mod sweep;

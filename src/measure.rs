@@ -115,6 +115,24 @@ pub struct Breakdown {
 }
 
 impl Breakdown {
+    /// The mean of each part over `frames`.
+    pub fn of<'a>(frames: impl IntoIterator<Item = &'a FrameRecord>) -> Breakdown {
+        let all: Vec<&FrameRecord> = frames.into_iter().collect();
+        let part = |f: fn(&FrameRecord) -> u64| {
+            stats::mean(&all.iter().map(|r| f(r) as f64 * 1e-6).collect::<Vec<_>>())
+        };
+        Breakdown {
+            workload_ms: part(|r| r.workload_ns),
+            wait_ms: part(|r| r.wait_ns),
+            copy_ms: part(|r| r.copy_ns),
+            step_ms: part(|r| r.step_ns),
+            other_ms: part(|r| r.other_ns),
+            wait_cpu_ms: part(|r| r.wait_cpu_ns),
+            helper_wait_ms: part(|r| r.helper_wait_ns),
+            helper_wait_cpu_ms: part(|r| r.helper_wait_cpu_ns),
+        }
+    }
+
     /// CPU time per frame that every thread together spent waiting, in ms.
     pub fn wait_cpu_ms(&self) -> f64 {
         self.wait_cpu_ms + self.helper_wait_cpu_ms
@@ -231,10 +249,11 @@ impl FrameMetrics {
             1000.0 / sorted[0]
         };
         let average = total / sorted.len() as f64;
-        let stutter: f64 = sorted
+        // A fold from +0.0: an empty f64 sum is -0.0, which prints as "-0.00 %".
+        let stutter = sorted
             .iter()
             .filter(|&&t| t > STUTTER_FACTOR * average)
-            .sum();
+            .fold(0.0, |sum, t| sum + t);
         Some(FrameMetrics {
             p1_fps: 1000.0 / percentile(0.01),
             one_percent_low_average_fps: low_average(0.01),
@@ -344,9 +363,6 @@ impl Summary {
         let (min, max) = stats::min_max(&fps_trials);
         let slowest = (times.len() / 100).max(1);
         let slow_ms: f64 = times[times.len() - slowest..].iter().sum();
-        let part = |f: fn(&FrameRecord) -> u64| {
-            stats::mean(&all.iter().map(|r| ms(f(r))).collect::<Vec<_>>())
-        };
         Some(Summary {
             fps: all.len() as f64 / seconds,
             fps_spread: Spread {
@@ -371,16 +387,7 @@ impl Summary {
                 .collect(),
             one_percent_low_fps: slowest as f64 * 1e3 / slow_ms,
             frame_metrics: FrameMetrics::of(&times),
-            breakdown: Breakdown {
-                workload_ms: part(|r| r.workload_ns),
-                wait_ms: part(|r| r.wait_ns),
-                copy_ms: part(|r| r.copy_ns),
-                step_ms: part(|r| r.step_ns),
-                other_ms: part(|r| r.other_ns),
-                wait_cpu_ms: part(|r| r.wait_cpu_ns),
-                helper_wait_ms: part(|r| r.helper_wait_ns),
-                helper_wait_cpu_ms: part(|r| r.helper_wait_cpu_ns),
-            },
+            breakdown: Breakdown::of(all.iter().copied()),
             wait_cpu_ms_trials: trials
                 .iter()
                 .filter(|t| !t.frames.is_empty())

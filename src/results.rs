@@ -8,6 +8,7 @@ use crate::crosscore::RoundTrip;
 use crate::machine::Machine;
 use crate::measure::Summary;
 use crate::sched::TrialNoise;
+use crate::slow_trials::TrialRecord;
 use crate::workload::Calibration;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -53,6 +54,10 @@ pub struct Cell {
     /// row started (absent in results from before per-row calibration).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration: Option<RowCalibration>,
+    /// Each trial's FPS, breakdown, speed canaries and round trips, and why a slow one was slow
+    /// (absent before schema 3).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub trials: Vec<TrialRecord>,
     /// What disturbed the cell's trials (absent in results from before it was recorded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub noise: Option<CellNoise>,
@@ -62,6 +67,17 @@ impl Cell {
     /// The unit of the cell's workload level (files before schema 2: iterations).
     pub fn workload_unit(&self) -> &str {
         self.workload_unit.as_deref().unwrap_or("iterations")
+    }
+
+    /// Whether a kept trial was disturbed beyond the noise threshold (the tables' †).
+    pub fn noisy(&self) -> bool {
+        self.noise.as_ref().is_some_and(|n| n.noisy_trials() > 0)
+    }
+
+    /// Trials more than the slow-trial threshold below the cell's median that nothing recorded
+    /// explains (the tables' ‡).
+    pub fn unexplained_slow_trials(&self) -> usize {
+        self.trials.iter().filter(|t| t.unexplained()).count()
     }
 
     /// The cell's workload level in [`Cell::workload_unit`].
@@ -163,8 +179,7 @@ pub struct Placement {
     pub after: Option<RoundTrip>,
 }
 
-/// Fastest ÷ slowest median round trip that counts as the same placement.
-pub const PLACEMENT_CHANGE_RATIO: f64 = 2.0;
+pub use crate::crosscore::PLACEMENT_CHANGE_RATIO;
 
 impl Placement {
     /// Every measurement in time order.
@@ -186,8 +201,10 @@ impl Placement {
 /// of every earlier version still load, and a file of a later one is refused rather than
 /// misread. 2: cells carry `ocean`, `workload_kind`, `workload_unit` and `workload_amount`, and
 /// the config `camera`; absent, they mean the sums of sines, the synthetic workload in iterations
-/// and the default camera.
-pub const SCHEMA_VERSION: u32 = 2;
+/// and the default camera. 3: cells carry `trials` (each trial's breakdown, canaries, round
+/// trips and slow-trial causes) and the config `slow_trial_percent`; absent, a cell has no
+/// per-trial records and the threshold is 10.
+pub const SCHEMA_VERSION: u32 = 3;
 
 /// Files written before the field existed have today's layout, version 1.
 fn version_1() -> u32 {

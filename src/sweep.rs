@@ -9,14 +9,15 @@ use crate::config::{self, InputError, SweepConfig};
 use crate::crosscore;
 use crate::frame_loop::{self, Budget, LoopError, LoopSpec, Mode, Threading};
 use crate::machine::Machine;
-use crate::measure::{Mailbox, Summary, Trial};
+use crate::measure::{Breakdown, Mailbox, Summary, Trial};
 use crate::ocean::{Grid, OceanParams};
 use crate::results::{
     CalibrationRecord, Cell, CellKey, CellNoise, LevelRecord, Pins, Placement, Results, StepTime,
 };
 use crate::sched::TrialNoise;
+use crate::slow_trials::{self, TrialFacts};
 use crate::sync::{Policy, SyncMethod};
-use crate::workload::Calibration;
+use crate::workload::{Calibration, WorkloadKind};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, SystemTime};
@@ -80,6 +81,9 @@ pub fn utc_now() -> String {
 
 /// Batches per cross-core measurement: about 50 ms on a far placement.
 const ROUND_TRIP_BATCHES: usize = 500;
+
+/// Batches per round trip around a trial: enough for a median that tells near from far.
+const TRIAL_ROUND_TRIP_BATCHES: usize = 10;
 
 /// What a running sweep reports to whoever runs it; every method does nothing unless
 /// overridden (as criterion's `Report`).
@@ -266,7 +270,10 @@ impl Sweep {
                     let config = &self.results.config;
                     let mut retries_left = config.retry_noisy;
                     loop {
-                        match frame_loop::run(&run.spec, &config.budget(), |_, _| {}) {
+                        let before = self.trial_round_trip(run.key.mode);
+                        let outcome = frame_loop::run(&run.spec, &config.budget(), |_, _| {});
+                        let around = before.zip(self.trial_round_trip(run.key.mode));
+                        match outcome {
                             Ok(lr)
                                 if retries_left > 0
                                     && lr.noise.is_noisy(config.noise_threshold_percent) =>
@@ -275,7 +282,7 @@ impl Sweep {
                                 run.retries += 1;
                             }
                             Ok(lr) => {
-                                run.record(lr);
+                                run.record(lr, config.noise_threshold_percent, around);
                                 break;
                             }
                             Err(LoopError::Interrupted) => return self.results,
@@ -288,10 +295,11 @@ impl Sweep {
                     done += 1;
                 }
             }
-            let threshold = self.results.config.noise_threshold_percent;
+            let config = &self.results.config;
+            let (noise, slow) = (config.noise_threshold_percent, config.slow_trial_percent);
             self.results
                 .cells
-                .extend(runs.into_iter().map(|r| r.finish(threshold)));
+                .extend(runs.into_iter().map(|r| r.finish(noise, slow)));
             if self.cores[0] != self.cores[1] {
                 let rt = crosscore::round_trip(self.cores[0], self.cores[1], ROUND_TRIP_BATCHES);
                 self.results.round_trip.during.push(rt);
@@ -355,6 +363,15 @@ impl Sweep {
         (iterations, Some(calibration))
     }
 
+    /// The median cross-core round trip around a DP trial (ns): about 2,200 cache-line trips
+    /// and two thread starts, 0.5 ms on near cores and a few ms on far ones, to tell a trial
+    /// whose threads moved between near and far. `None` for the modes on one core.
+    fn trial_round_trip(&self, mode: Mode) -> Option<f64> {
+        (mode == Mode::Dp && self.cores[0] != self.cores[1]).then(|| {
+            crosscore::round_trip(self.cores[0], self.cores[1], TRIAL_ROUND_TRIP_BATCHES).median_ns
+        })
+    }
+
     /// The core of the helper (helper 0, with several) in `mode`.
     fn helper_core(&self, mode: Mode) -> usize {
         match mode {
@@ -413,6 +430,7 @@ impl Sweep {
             },
             spec,
             trials: Vec::new(),
+            facts: Vec::new(),
             noise: Vec::new(),
             retries: 0,
             calibration,
@@ -427,6 +445,7 @@ struct CellRun {
     key: CellKey,
     spec: LoopSpec,
     trials: Vec<Trial>,
+    facts: Vec<TrialFacts>,
     noise: Vec<TrialNoise>,
     retries: usize,
     calibration: Option<RowCalibration>,
@@ -436,7 +455,27 @@ struct CellRun {
 }
 
 impl CellRun {
-    fn record(&mut self, run: frame_loop::LoopRun) {
+    /// Keeps a finished trial, with what was measured around it: whether it was noisy under
+    /// `noise_percent`, its workload canary and the round trips `around` it.
+    fn record(&mut self, run: frame_loop::LoopRun, noise_percent: f64, around: Option<(f64, f64)>) {
+        let frames = &run.trial.frames;
+        let breakdown = (!frames.is_empty()).then(|| Breakdown::of(frames));
+        let ns_per_iteration = self.calibration.as_ref().map(|c| c.ns_per_iteration_in_row);
+        let per_iteration = |b: &Breakdown| {
+            (self.spec.workload_kind == WorkloadKind::Synthetic && self.spec.workload_amount > 0)
+                .then(|| b.workload_ms * 1e6 / self.spec.workload_amount as f64)
+        };
+        self.facts.push(TrialFacts {
+            fps: run.trial.fps(),
+            workload_ratio: breakdown
+                .as_ref()
+                .and_then(per_iteration)
+                .zip(ns_per_iteration)
+                .map(|(ns, cal)| ns / cal),
+            breakdown,
+            taken_away: run.noise.is_noisy(noise_percent),
+            round_trip_ns: around.map(|(a, b)| [a, b]),
+        });
         self.pins.main_held = run.main_pin.held;
         self.pins.helper_held =
             (!run.helper_pins.is_empty()).then(|| run.helper_pins.iter().all(|p| p.held));
@@ -445,9 +484,14 @@ impl CellRun {
         self.noise.push(run.noise);
     }
 
-    fn finish(self, threshold_percent: f64) -> Cell {
+    fn finish(self, threshold_percent: f64, slow_percent: f64) -> Cell {
         let failed = self.error.is_some();
         Cell {
+            trials: if failed {
+                Vec::new()
+            } else {
+                slow_trials::attribute(&self.facts, slow_percent)
+            },
             workload_iterations: self.spec.workload_amount,
             workload_unit: Some(self.spec.workload_kind.unit().to_string()),
             workload_amount: Some(self.spec.workload_amount),

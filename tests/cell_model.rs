@@ -98,6 +98,7 @@ fn cell(key: CellKey, fps: f64) -> Cell {
         workload_amount: Some(0),
         key,
         workload_iterations: 0,
+        trials: Vec::new(),
         summary: Some(summary(fps)),
         pinned: true,
         pins: Pins {

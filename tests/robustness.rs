@@ -38,7 +38,7 @@ fn junk() -> impl Strategy<Value = String> {
 }
 
 /// The fields a junk value replaces, one by one ("sizez" is a misspelt key).
-const FIELDS: [&str; 23] = [
+const FIELDS: [&str; 24] = [
     "sizes",
     "workloads",
     "modes",
@@ -60,6 +60,7 @@ const FIELDS: [&str; 23] = [
     "cores",
     "warmup_frames",
     "camera",
+    "slow_trial_percent",
     "workload_kind",
     "sizez",
 ];

@@ -34,7 +34,27 @@ fn axes(cell: &DimArgs) -> Axes {
     axes
 }
 
+/// The flags no cell uses because every mode listed is `serial` (no hand-off, so no method,
+/// helper or depth), each named once.
+fn ignored_flags(cell: &DimArgs, axes: &Axes) -> Vec<String> {
+    if axes.modes.iter().any(|&m| m != Mode::Serial) {
+        return Vec::new();
+    }
+    Dim::ALL
+        .iter()
+        .filter(|&&d| !d.in_serial_cells() && cell.get(d).is_some())
+        .map(|&d| format!("--{}", DimArgs::flag(d)))
+        .collect()
+}
+
 pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
+    let ignored = ignored_flags(&args.cell, &axes(&args.cell));
+    if !ignored.is_empty() {
+        eprintln!(
+            "oceanbench: {} ignored: `--mode serial` runs everything on one thread, with no hand-off",
+            ignored.join(", ")
+        );
+    }
     let mut config = SweepConfig {
         name: "run".into(),
         axes: axes(&args.cell),
@@ -138,6 +158,22 @@ fn print_cells(results: &Results) {
                 n.involuntary_switches(),
                 n.noisy_trials(),
                 n.retries
+            );
+        }
+        for (i, t) in cell.trials.iter().enumerate() {
+            let Some(slow) = &t.slow else { continue };
+            let causes: Vec<&str> = slow.causes.iter().map(|c| c.name()).collect();
+            let ratio = |r: Option<f64>| r.map_or("–".to_string(), |r| format!("{r:.2}"));
+            println!(
+                "  slow trial {}: {:.1} FPS, {:.0}% below the median: {} (step ÷ median {}, workload ÷ calibration {}, round trip {})",
+                i + 1,
+                t.fps,
+                slow.below_median_percent,
+                causes.join(", "),
+                ratio(t.step_ratio),
+                ratio(t.workload_ratio),
+                t.round_trip_ns
+                    .map_or("–".to_string(), |[a, b]| format!("{a:.0} / {b:.0} ns"))
             );
         }
     }

@@ -19,11 +19,12 @@ use std::collections::HashMap;
 use std::fmt::Write;
 use strum::EnumMessage;
 
-/// Marks a verdict that rests on trials disturbed beyond their noise threshold.
+/// Marks a verdict that rests on trials disturbed beyond their noise threshold, or on a slow
+/// trial nothing recorded explains.
 const NOISY: &str = "†";
 
 /// The footnote of [`NOISY`].
-const NOISY_NOTE: &str = "† rests on trials in which other tasks or the hypervisor took more than the noise threshold: re-run before trusting it";
+const NOISY_NOTE: &str = "† rests on trials in which other tasks or the hypervisor took more than the noise threshold, or on a slow trial nothing recorded explains: re-run before trusting it";
 
 crate::named! {
     /// What a comparison compares, trial by trial.
@@ -441,7 +442,7 @@ impl Comparison {
             let seed = stats::seed_from(&format!("{} {:?}", p.label, p.versus));
             let noisy = [p.base, p.new]
                 .iter()
-                .any(|c| c.noise.as_ref().is_some_and(|n| n.noisy_trials() > 0));
+                .any(|c| c.noisy() || c.unexplained_slow_trials() > 0);
             self.changes.push(Change {
                 noisy,
                 ..change(p.label, p.versus, &b, &n, threshold, seed, self.metric)

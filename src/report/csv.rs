@@ -181,6 +181,48 @@ pub fn to_string(results: &Results) -> Result<String, CsvError> {
     to_text(results.cells.iter().map(CellRow::of))
 }
 
+/// One trial of a cell: the cell, the trial's FPS and breakdown, its canaries and round trips,
+/// and for a slow trial what made it slow.
+#[derive(Serialize)]
+struct TrialRow<'a> {
+    #[serde(flatten)]
+    key: &'a CellKey,
+    trial: usize,
+    fps: f64,
+    #[serde(flatten)]
+    breakdown: &'a crate::measure::Breakdown,
+    step_ratio: Option<f64>,
+    workload_ratio: Option<f64>,
+    round_trip_before_ns: Option<f64>,
+    round_trip_after_ns: Option<f64>,
+    taken_away: bool,
+    slow_below_median_percent: Option<f64>,
+    slow_causes: Option<String>,
+}
+
+/// Every trial of every cell as CSV (`trials.csv`), trials numbered from 1 in the order run.
+pub fn trials(results: &Results) -> Result<String, CsvError> {
+    let rows = results.cells.iter().flat_map(|c| {
+        c.trials.iter().enumerate().map(move |(i, t)| TrialRow {
+            key: &c.key,
+            trial: i + 1,
+            fps: t.fps,
+            breakdown: &t.breakdown,
+            step_ratio: t.step_ratio,
+            workload_ratio: t.workload_ratio,
+            round_trip_before_ns: t.round_trip_ns.map(|r| r[0]),
+            round_trip_after_ns: t.round_trip_ns.map(|r| r[1]),
+            taken_away: t.taken_away,
+            slow_below_median_percent: t.slow.as_ref().map(|s| s.below_median_percent),
+            slow_causes: t.slow.as_ref().map(|s| {
+                let names: Vec<&str> = s.causes.iter().map(|c| c.name()).collect();
+                names.join(" ")
+            }),
+        })
+    });
+    to_text(rows)
+}
+
 /// One balance point: the searched cell, then what the search found.
 #[derive(Serialize)]
 struct BalanceRow<'a> {

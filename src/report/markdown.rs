@@ -4,12 +4,20 @@
 use crate::calibrate::{self, Calibrate};
 use crate::cell::{Dim, DimValue};
 use crate::frame_loop::Mode;
-use crate::results::{Cell, CellKey, Results};
+use crate::results::{Cell, CellKey, CellNoise, Results};
+use crate::slow_trials::{Cause, Slow, TrialRecord};
 use crate::sync::{Policy, SyncMethod};
 use std::fmt::Write;
+use strum::VariantArray;
 
 /// Marks a cell that kept trials disturbed beyond the noise threshold.
 const NOISY: &str = "†";
+
+/// Marks a cell with a slow trial that nothing recorded explains.
+const UNEXPLAINED: &str = "‡";
+
+/// Worst cells a warning names before it points to the full list.
+const WORST_NAMED: usize = 5;
 
 fn fps(cell: Option<&Cell>) -> String {
     match cell {
@@ -18,9 +26,16 @@ fn fps(cell: Option<&Cell>) -> String {
                 summary: Some(s), ..
             },
         ) => {
-            let noisy = c.noise.as_ref().is_some_and(|n| n.noisy_trials() > 0);
-            let mark = if noisy { NOISY } else { "" };
-            format!("{:.0} ±{:.1}%{mark}", s.fps, s.fps_spread.cv_percent)
+            let noisy = if c.noisy() { NOISY } else { "" };
+            let unexplained = if c.unexplained_slow_trials() > 0 {
+                UNEXPLAINED
+            } else {
+                ""
+            };
+            format!(
+                "{:.0} ±{:.1}%{noisy}{unexplained}",
+                s.fps, s.fps_spread.cv_percent
+            )
         }
         Some(Cell { error: Some(_), .. }) => "failed".into(),
         _ => "–".into(),
@@ -136,27 +151,131 @@ pub fn noise_warnings(results: &Results) -> Vec<String> {
             drifted.join(", ")
         ));
     }
-    let noisy: Vec<&Cell> = results
+    let mut noisy: Vec<(&Cell, &CellNoise)> = results
         .cells
         .iter()
-        .filter(|c| c.noise.as_ref().is_some_and(|n| n.noisy_trials() > 0))
+        .filter(|c| c.noisy())
+        .filter_map(|c| Some((c, c.noise.as_ref()?)))
         .collect();
-    if let Some(first) = noisy.first().and_then(|c| c.noise.as_ref()) {
-        let worst = |f: fn(&crate::results::CellNoise) -> f64| {
-            noisy
-                .iter()
-                .filter_map(|c| c.noise.as_ref())
-                .map(f)
-                .fold(0.0, f64::max)
+    if let Some(&(_, first)) = noisy.first() {
+        let taken = |n: &CellNoise| n.preempted_percent().max(n.steal_percent());
+        noisy.sort_by(|a, b| taken(b.1).total_cmp(&taken(a.1)));
+        let worst: Vec<String> = noisy
+            .iter()
+            .take(WORST_NAMED)
+            .map(|(c, n)| {
+                format!(
+                    "{} (off its core {:.1}%, steal {:.1}%)",
+                    c.key.label(),
+                    n.preempted_percent(),
+                    n.steal_percent()
+                )
+            })
+            .collect();
+        let rest = if noisy.len() > WORST_NAMED {
+            "; every one is listed under \"Noisy cells\" below and in results.json"
+        } else {
+            ""
         };
         out.push(format!(
-            "{} cell(s) kept trials in which other tasks or the hypervisor took more than {}% of the wall time ({NOISY} in the tables; worst: a thread kept off its core {:.1}%, steal {:.1}%): {}; re-run with --retry-noisy or on a quieter machine (docs/noise.md)",
+            "{} of {} cells kept trials in which other tasks or the hypervisor took more than {}% of the wall time ({NOISY} in the tables); the worst: {}{rest}; re-run with --retry-noisy or on a quieter machine (docs/noise.md)",
             noisy.len(),
+            results.cells.len(),
             first.threshold_percent,
-            worst(|n| n.preempted_percent()),
-            worst(|n| n.steal_percent()),
-            noisy.iter().map(|c| c.key.label()).collect::<Vec<_>>().join(", ")
+            worst.join(", "),
         ));
+    }
+    if let Some(line) = slow_trial_warning(results) {
+        out.push(line);
+    }
+    out
+}
+
+/// One line on the slow trials: how many, and how many each cause explains.
+fn slow_trial_warning(results: &Results) -> Option<String> {
+    let trials: Vec<&TrialRecord> = results.cells.iter().flat_map(|c| &c.trials).collect();
+    let slow: Vec<&Slow> = trials.iter().filter_map(|t| t.slow.as_ref()).collect();
+    if slow.is_empty() {
+        return None;
+    }
+    let causes: Vec<String> = Cause::VARIANTS
+        .iter()
+        .map(|&cause| {
+            (
+                slow.iter().filter(|s| s.causes.contains(&cause)).count(),
+                cause,
+            )
+        })
+        .filter(|&(n, _)| n > 0)
+        .map(|(n, cause)| format!("{} {n}", cause.name().replace('-', " ")))
+        .collect();
+    Some(format!(
+        "{} of {} trials ran more than {}% below their cell's median FPS: {} ({UNEXPLAINED} in the tables where nothing explains one; \"Slow trials\" below, docs/noise.md)",
+        slow.len(),
+        trials.len(),
+        results.config.slow_trial_percent,
+        causes.join(", ")
+    ))
+}
+
+/// Every slow trial with its causes and evidence, and every noisy cell when the warning named
+/// only the worst.
+fn slow_and_noisy(results: &Results) -> String {
+    let mut out = String::new();
+    let slow: Vec<(&Cell, usize, &TrialRecord, &Slow)> = results
+        .cells
+        .iter()
+        .flat_map(|c| {
+            c.trials
+                .iter()
+                .enumerate()
+                .filter_map(move |(i, t)| Some((c, i, t, t.slow.as_ref()?)))
+        })
+        .collect();
+    if !slow.is_empty() {
+        let _ = writeln!(
+            out,
+            "\n### Slow trials\n\n| cell | trial | FPS | below median | causes | off core / steal | step ÷ median | workload ÷ calibration | round trip before / after |\n|---|---:|---:|---:|---|---:|---:|---:|---:|"
+        );
+        let ratio = |r: Option<f64>| r.map_or("–".to_string(), |r| format!("{r:.2}"));
+        for (c, i, t, s) in slow {
+            let noise = c.noise.as_ref().and_then(|n| n.trials.get(i));
+            let causes: Vec<&str> = s.causes.iter().map(|c| c.name()).collect();
+            let taken = noise.map_or("–".to_string(), |n| {
+                format!("{:.1}% / {:.1}%", n.preempted_percent(), n.steal_percent())
+            });
+            let trips = t
+                .round_trip_ns
+                .map_or("–".to_string(), |[a, b]| format!("{a:.0} / {b:.0} ns"));
+            let _ = writeln!(
+                out,
+                "| {} | {} | {:.1} | {:.0}% | {} | {taken} | {} | {} | {trips} |",
+                c.key.label(),
+                i + 1,
+                t.fps,
+                s.below_median_percent,
+                causes.join(", "),
+                ratio(t.step_ratio),
+                ratio(t.workload_ratio),
+            );
+        }
+    }
+    let noisy: Vec<&Cell> = results.cells.iter().filter(|c| c.noisy()).collect();
+    if noisy.len() > WORST_NAMED {
+        let _ = writeln!(out, "\n### Noisy cells\n");
+        for c in noisy {
+            if let Some(n) = &c.noise {
+                let _ = writeln!(
+                    out,
+                    "- {}: {} of {} trials, off its core up to {:.1}%, steal up to {:.1}%",
+                    c.key.label(),
+                    n.noisy_trials(),
+                    n.trials.len(),
+                    n.preempted_percent(),
+                    n.steal_percent()
+                );
+            }
+        }
     }
     out
 }
@@ -171,6 +290,7 @@ pub fn to_string(results: &Results) -> String {
     out.push_str(&latest(results));
     out.push_str(&waiting(results));
     out.push_str(&balance(results));
+    out.push_str(&slow_and_noisy(results));
     let failed: Vec<&Cell> = results.cells.iter().filter(|c| c.error.is_some()).collect();
     if !failed.is_empty() {
         out.push_str("\n## Failed cells\n\n");

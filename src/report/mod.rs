@@ -22,8 +22,8 @@ pub struct WriteError {
     pub source: std::io::Error,
 }
 
-/// Writes `results.json`, `results.csv` and `results.md` into `dir` (and `balance.csv` and
-/// `balance-probes.csv` when there are balance points), each atomically.
+/// Writes `results.json`, `results.csv`, `trials.csv` and `results.md` into `dir` (and
+/// `balance.csv` and `balance-probes.csv` when there are balance points), each atomically.
 pub fn write_all(dir: &Path, results: &Results) -> Result<(), WriteError> {
     let failed = |name: &str| {
         let path = dir.join(name);
@@ -44,6 +44,9 @@ pub fn write_all(dir: &Path, results: &Results) -> Result<(), WriteError> {
             "results.csv",
             from_csv("results.csv", csv::to_string(results))?,
         ));
+    }
+    if results.cells.iter().any(|c| !c.trials.is_empty()) {
+        files.push(("trials.csv", from_csv("trials.csv", csv::trials(results))?));
     }
     if !results.balance.is_empty() {
         files.push((
