@@ -159,6 +159,27 @@ fn bad_configs_exit_2_naming_the_field() {
     );
 }
 
+/// Runs `oceanbench mesh` with `args`, its CSV written in `dir`: the header and the rows.
+fn mesh_csv<T: std::str::FromStr>(dir: &Path, args: &[&str]) -> (String, Vec<Vec<T>>)
+where
+    T::Err: std::fmt::Debug,
+{
+    let csv = dir.join("mesh.csv");
+    let out = oceanbench(&[&["mesh"], args, &["--out", csv.to_str().unwrap()]].concat());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap_or_default().to_string();
+    let rows = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    (header, rows)
+}
+
 #[test]
 fn mesh_csv_has_one_row_per_vertex_and_matches_the_equations() {
     let dir = tempfile::tempdir().unwrap();
@@ -171,32 +192,21 @@ fn mesh_csv_has_one_row_per_vertex_and_matches_the_equations() {
             {"amplitude": 5.0, "wavelength": 3.0, "speed": 0.5, "direction": [0.0, 1.0], "steepness": 1.0, "enabled": false}
         ]}"#,
     );
-    let csv = dir.path().join("frame.csv");
-    let out = oceanbench(&[
-        "mesh",
-        "--size",
-        "12",
-        "--time",
-        "3.5",
-        "--spacing",
-        "0.5",
-        "--waves",
-        &waves,
-        "--out",
-        csv.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let (header, rows) = mesh_csv::<f64>(
+        dir.path(),
+        &[
+            "--size",
+            "12",
+            "--time",
+            "3.5",
+            "--spacing",
+            "0.5",
+            "--waves",
+            &waves,
+        ],
     );
     let set = WaveSet::load(Path::new(&waves)).unwrap();
-    let text = std::fs::read_to_string(&csv).unwrap();
-    let mut lines = text.lines();
-    assert_eq!(lines.next(), Some("i,j,x,y,z,nx,ny,nz"));
-    let rows: Vec<Vec<f64>> = lines
-        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
+    assert_eq!(header, "i,j,x,y,z,nx,ny,nz");
     assert_eq!(rows.len(), 144);
     for r in &rows {
         let (i, j, x, y) = (r[0], r[1], r[2], r[3]);
@@ -319,31 +329,20 @@ fn fft_mesh_csv_has_the_fold_column_and_the_model_s_surface() {
         "p.json",
         r#"{"patch_metres": 200, "wind_speed": 15, "amplitude": 1e-6, "choppiness": 1.2}"#,
     );
-    let csv = dir.path().join("fft.csv");
-    let out = oceanbench(&[
-        "mesh",
-        "--ocean",
-        "fft",
-        "--size",
-        "16",
-        "--time",
-        "2.5",
-        "--fft-params",
-        &params,
-        "--out",
-        csv.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let (header, rows) = mesh_csv::<f32>(
+        dir.path(),
+        &[
+            "--ocean",
+            "fft",
+            "--size",
+            "16",
+            "--time",
+            "2.5",
+            "--fft-params",
+            &params,
+        ],
     );
-    let text = std::fs::read_to_string(&csv).unwrap();
-    let mut lines = text.lines();
-    assert_eq!(lines.next(), Some("i,j,x,y,z,nx,ny,nz,fold"));
-    let rows: Vec<Vec<f32>> = lines
-        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
+    assert_eq!(header, "i,j,x,y,z,nx,ny,nz,fold");
     assert_eq!(rows.len(), 256);
 
     let fft = FftParams::load(Path::new(&params)).unwrap();

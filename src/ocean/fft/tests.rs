@@ -21,6 +21,11 @@ fn fields(state: &FftState, e: usize) -> [f64; 8] {
     [hd.re, d.re, d.im, slope.re, slope.im, dd.re, dd.im, dxy].map(f64::from)
 }
 
+/// The mean of the heights' squares.
+fn mean_square(z: &[f32]) -> f64 {
+    z.iter().map(|&z| (z as f64).powi(2)).sum::<f64>() / z.len() as f64
+}
+
 /// The largest error of each field against the oracle, over the field's largest value.
 fn relative_errors(params: &FftParams, n: usize, t: f32) -> [f64; 8] {
     let (state, _) = surface(params, n, t, NormalMethod::Analytic);
@@ -171,8 +176,7 @@ fn the_heights_variance_is_the_spectrum_sum() {
     for (n, t) in [(64, 0.0), (256, 11.0)] {
         let params = FftParams::default();
         let (_, mesh) = surface(&params, n, t, NormalMethod::Analytic);
-        let mean_square =
-            mesh.z.iter().map(|&z| (z as f64).powi(2)).sum::<f64>() / mesh.z.len() as f64;
+        let mean_square = mean_square(&mesh.z);
         let power = Spectrum::new(&params, n).power(t as f64);
         assert!(
             (mean_square / power - 1.0).abs() < 1e-4,
@@ -256,8 +260,7 @@ fn sizes_40_and_1536_run() {
             .chain(&mesh.x)
             .chain(&mesh.fold)
             .all(|v| v.is_finite()));
-        let mean_square =
-            mesh.z.iter().map(|&z| (z as f64).powi(2)).sum::<f64>() / mesh.z.len() as f64;
+        let mean_square = mean_square(&mesh.z);
         let power = Spectrum::new(&params, n).power(2.0);
         assert!((mean_square / power - 1.0).abs() < 1e-3, "n={n}");
     }
