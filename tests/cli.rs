@@ -306,13 +306,13 @@ fn fft_bad_input_exits_2_with_one_line_and_keeps_the_output_file() {
             "--ocean",
             "fft",
             "--normals",
-            "analytic",
+            "neighbors",
             "--helpers",
             "2",
             "--size",
             "64",
         ],
-        &["helpers", "fft", "1 helper"],
+        &["helpers", "analytic", "neighbors"],
     );
     let config = params(
         "c.json",

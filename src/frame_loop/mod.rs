@@ -9,6 +9,7 @@
 //! shared mesh and the two sides of a threaded frame that touch it: every `unsafe` access to
 //! the slot is there.
 
+mod barrier;
 mod consume;
 mod frames;
 mod latest;

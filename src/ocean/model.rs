@@ -7,6 +7,7 @@ use super::normals::NormalMethod;
 use super::phillips::FftParams;
 use super::waves::WaveSet;
 use crate::input::InputError;
+use std::ops::Range;
 
 /// The run's inputs every model may read: each model takes its own.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -74,6 +75,25 @@ pub trait Stepper: Send + std::fmt::Debug {
 
     /// A copy of this state for another helper.
     fn boxed_clone(&self) -> Box<dyn Stepper>;
+
+    /// Phases of a banded step: helpers filling bands of one mesh all finish a phase (and the
+    /// frame before) before any starts the next. 1: every band is computed alone.
+    fn phases(&self) -> usize {
+        1
+    }
+
+    /// Phase `phase` of this helper's band, bit-identical in the end to the band's rows of
+    /// [`Stepper::step`]; with one phase, [`Stepper::step_rows`].
+    fn step_phase(&mut self, phase: usize, t: f32, rows: MeshRows<'_>) {
+        debug_assert_eq!(phase, 0, "one phase");
+        self.step_rows(t, rows);
+    }
+
+    /// The steppers of helpers that fill `bands` of each mesh, helper h `bands[h]`: clones by
+    /// default; a model whose phases read each other's bands shares that state among them.
+    fn split(&self, bands: &[Range<usize>]) -> Vec<Box<dyn Stepper>> {
+        bands.iter().map(|_| self.boxed_clone()).collect()
+    }
 }
 
 impl Clone for Box<dyn Stepper> {

@@ -14,10 +14,13 @@ use super::model::{Kernel, Model, OceanParams, Stepper};
 use super::normals::{FaceNormals, NormalMethod};
 use crate::input::InputError;
 use glam::Vec3;
+use parking_lot::RwLock;
 use rustfft::num_complex::Complex;
 pub use size::check_size;
 use spectrum::Spectrum;
 use std::f64::consts::TAU;
+use std::ops::Range;
+use std::sync::Arc;
 use transform::Inverse2d;
 
 /// The FFT ocean model.
@@ -35,14 +38,18 @@ impl Model for FftOcean {
         &[NormalMethod::Analytic, NormalMethod::Neighbors]
     }
 
-    /// Every row of the output needs every row of the spectrum: rows among helpers need a
-    /// barrier between the row and the column passes, which is not built yet.
-    fn splits_into_rows(&self, _normals: NormalMethod) -> Result<(), InputError> {
-        Err(InputError(
-            "helpers: the fft ocean runs on 1 helper (its column transforms need every row; \
-             splitting them among helpers is not supported yet)"
-                .into(),
-        ))
+    /// Helpers split the row pass and the column pass by rows, meeting at the frame loop's
+    /// barrier between them ([`FftState::split`]); face normals at a band's edge would need
+    /// the neighbouring band's vertices.
+    fn splits_into_rows(&self, normals: NormalMethod) -> Result<(), InputError> {
+        match normals {
+            NormalMethod::Analytic => Ok(()),
+            other => Err(InputError(format!(
+                "helpers: more than one helper needs normals `analytic`; `{}` normals at a \
+                 band's edge need the neighbouring band's vertices (not supported yet)",
+                other.name()
+            ))),
+        }
     }
 
     fn check(&self, size: usize, normals: NormalMethod) -> Result<(), InputError> {
@@ -153,6 +160,27 @@ impl Terms {
         }
     }
 
+    /// The four packed spectra at time t of the transposed rows `rows` (x-wavenumber indices),
+    /// row `rows.start` at the start of each of `out`.
+    fn spectra(&self, t: f32, rows: Range<usize>, out: [&mut [Complex<f32>]; 4]) {
+        let n = self.k.len();
+        let t = t as f64;
+        let [f0, f1, f2, f3] = out;
+        for b in rows.clone() {
+            let kx = self.k[b];
+            for a in 0..n {
+                let (e, o) = (b * n + a, (b - rows.start) * n + a);
+                let ky = self.k[a];
+                let ik = self.inv_k[e];
+                let h = self.coefficient(e, t);
+                f0[o] = h * Complex::new(1.0, kx * ky * ik * self.dxy_scale);
+                f1[o] = h * Complex::new(ky * ik, -kx * ik);
+                f2[o] = h * Complex::new(-ky, kx);
+                f3[o] = h * Complex::new(kx * kx * ik, ky * ky * ik);
+            }
+        }
+    }
+
     /// h̃(k, t) = h̃₀(k)·e^{iωt} + conj(h̃₀(−k))·e^{−iωt} at element e.
     fn coefficient(&self, e: usize, t: f64) -> Complex<f32> {
         let phase = self.omega[e] * t;
@@ -199,7 +227,7 @@ impl FftState {
             normals,
             faces: (normals == NormalMethod::Neighbors).then(|| FaceNormals::new(grid)),
             terms: Terms::new(spectrum),
-            fields: std::array::from_fn(|_| vec![Complex::default(); n * n]),
+            fields: Default::default(),
             inverse: Inverse2d::new(n),
         }
     }
@@ -209,49 +237,35 @@ impl FftState {
         self.spacing
     }
 
-    /// The four packed spectra at time t (see [`FftState`]), then their transforms.
+    /// The four packed spectra at time t (see [`FftState`]), then their transforms. The
+    /// buffers are made on first use: a state split among helpers never needs them.
     pub fn transform(&mut self, t: f32) {
-        self.spectra(t);
+        let n = self.n;
+        for field in &mut self.fields {
+            field.resize(n * n, Complex::default());
+        }
+        let [f0, f1, f2, f3] = &mut self.fields;
+        self.terms.spectra(t, 0..n, [f0, f1, f2, f3]);
         for field in &mut self.fields {
             self.inverse.process(field);
         }
     }
 
-    /// The four packed spectra at time t, in the transforms' layout.
-    fn spectra(&mut self, t: f32) {
-        let n = self.n;
-        let t = t as f64;
-        let terms = &self.terms;
-        let [f0, f1, f2, f3] = &mut self.fields;
-        for b in 0..n {
-            let kx = terms.k[b];
-            for a in 0..n {
-                let e = b * n + a;
-                let ky = terms.k[a];
-                let ik = terms.inv_k[e];
-                let h = terms.coefficient(e, t);
-                f0[e] = h * Complex::new(1.0, kx * ky * ik * terms.dxy_scale);
-                f1[e] = h * Complex::new(ky * ik, -kx * ik);
-                f2[e] = h * Complex::new(-ky, kx);
-                f3[e] = h * Complex::new(kx * kx * ik, ky * ky * ik);
-            }
-        }
-    }
-
     /// The unpacked fields into one band of rows: displaced positions, heights, fold value and
-    /// direction, and the analytic normal when asked for.
-    fn fill(&self, rows: MeshRows<'_>) {
+    /// direction, and the analytic normal when asked for. `fields` start at the band's first
+    /// row.
+    fn fill(&self, fields: [&[Complex<f32>]; 4], rows: MeshRows<'_>) {
         let n = self.n;
         let lambda = self.choppiness;
         let analytic = self.normals == NormalMethod::Analytic;
-        let [hd, dxy, slope, dd] = &self.fields;
+        let [hd, dxy, slope, dd] = fields;
         // Exact: the scale is a power of two.
         let unscale = 1.0 / self.terms.dxy_scale;
         for r in 0..rows.rows() {
             let i = rows.first_row + r;
             for j in 0..n {
-                let (v, e) = (r * n + j, i * n + j);
-                let (hd, dxy, slope, dd) = (hd[e], dxy[e], slope[e], dd[e]);
+                let v = r * n + j;
+                let (hd, dxy, slope, dd) = (hd[v], dxy[v], slope[v], dd[v]);
                 rows.x[v] = j as f32 * self.spacing + lambda * dxy.re;
                 rows.y[v] = i as f32 * self.spacing + lambda * dxy.im;
                 rows.z[v] = hd.re;
@@ -297,17 +311,25 @@ fn compressing_direction(a: f32, b: f32, d: f32) -> (f32, f32) {
     }
 }
 
+impl FftState {
+    /// The whole transforms' rows from `first_row` on, for [`FftState::fill`].
+    fn whole_fields(&self, first_row: usize) -> [&[Complex<f32>]; 4] {
+        let start = first_row * self.n;
+        std::array::from_fn(|f| &self.fields[f][start..])
+    }
+}
+
 impl Stepper for FftState {
     fn step(&mut self, t: f32, mesh: &mut Mesh) {
         self.transform(t);
-        self.fill(mesh.rows_mut(0..self.n));
+        self.fill(self.whole_fields(0), mesh.rows_mut(0..self.n));
         if let Some(faces) = &mut self.faces {
             faces.compute(mesh, self.normals);
         }
     }
 
-    /// Correct but whole: the band needs every row's transforms, so this computes them all
-    /// (one helper only: [`FftOcean::splits_into_rows`]).
+    /// Correct but whole: the band needs every row's transforms, so this computes them all;
+    /// helpers sharing a mesh step the phases of [`FftState::split`]'s band steppers instead.
     fn step_rows(&mut self, t: f32, rows: MeshRows<'_>) {
         assert_eq!(
             self.normals,
@@ -315,10 +337,133 @@ impl Stepper for FftState {
             "step_rows needs analytic normals"
         );
         self.transform(t);
-        self.fill(rows);
+        self.fill(self.whole_fields(rows.first_row), rows);
     }
 
     fn boxed_clone(&self) -> Box<dyn Stepper> {
         Box::new(self.clone())
+    }
+
+    fn split(&self, bands: &[Range<usize>]) -> Vec<Box<dyn Stepper>> {
+        let n = self.n;
+        let shared = Arc::new(RowPasses {
+            bands: bands.to_vec(),
+            fields: bands
+                .iter()
+                .map(|r| {
+                    std::array::from_fn(|_| RwLock::new(vec![Complex::default(); r.len() * n]))
+                })
+                .collect(),
+        });
+        let alone = FftState {
+            fields: Default::default(),
+            ..self.clone()
+        };
+        bands
+            .iter()
+            .enumerate()
+            .map(|(band, r)| {
+                Box::new(FftBand {
+                    whole: alone.clone(),
+                    band,
+                    shared: Arc::clone(&shared),
+                    columns: std::array::from_fn(|_| vec![Complex::default(); r.len() * n]),
+                }) as Box<dyn Stepper>
+            })
+            .collect()
+    }
+}
+
+/// The first pass of every band of a split step, shared by its helpers: band h's transposed
+/// rows (x-wavenumber indices in its rows) of each field, written in phase 0 by helper h alone
+/// and read by every helper in phase 1. The locks are never contended when the frame loop's
+/// barrier orders the phases; they make a misordered use wrong rather than unsound.
+#[derive(Debug)]
+struct RowPasses {
+    bands: Vec<Range<usize>>,
+    fields: Vec<[RwLock<Vec<Complex<f32>>>; 4]>,
+}
+
+/// One helper's part of an FFT step split among helpers by rows: phase 0 builds its band's
+/// rows of the four spectra and transforms them; phase 1 gathers its band's columns from every
+/// band (the transpose), transforms them and fills its rows of the mesh. The result is
+/// bit-identical to [`FftState::step`]: every row is the same transform of the same values.
+#[derive(Clone, Debug)]
+pub struct FftBand {
+    /// The per-run state: terms, plan, and whole buffers for [`Stepper::step`] alone.
+    whole: FftState,
+    band: usize,
+    shared: Arc<RowPasses>,
+    /// This band's rows after the transpose and the second pass, one buffer per field.
+    columns: [Vec<Complex<f32>>; 4],
+}
+
+impl FftBand {
+    /// Phase 0: this band's rows of the four spectra at t, and their row pass.
+    fn row_pass(&mut self, t: f32) {
+        let rows = self.shared.bands[self.band].clone();
+        let mut out = self.shared.fields[self.band].each_ref().map(|f| f.write());
+        let [f0, f1, f2, f3] = &mut out;
+        self.whole.terms.spectra(t, rows, [f0, f1, f2, f3]);
+        for field in &mut out {
+            self.whole.inverse.rows(field);
+        }
+    }
+
+    /// Phase 1: this band's columns of every band's rows (its rows of the transposed fields),
+    /// their pass, and the mesh rows they make.
+    fn column_pass(&mut self, rows: MeshRows<'_>) {
+        let n = self.whole.n;
+        let mine = self.shared.bands[self.band].clone();
+        for (f, column) in self.columns.iter_mut().enumerate() {
+            for (band, from) in self.shared.bands.iter().zip(&self.shared.fields) {
+                let from = from[f].read();
+                for (r, b) in band.clone().enumerate() {
+                    let source = &from[r * n..(r + 1) * n];
+                    for (i, value) in source[mine.clone()].iter().enumerate() {
+                        column[i * n + b] = *value;
+                    }
+                }
+            }
+            self.whole.inverse.rows(column);
+        }
+        let fields = self.columns.each_ref().map(|c| c.as_slice());
+        self.whole.fill(fields, rows);
+    }
+}
+
+impl Stepper for FftBand {
+    fn step(&mut self, t: f32, mesh: &mut Mesh) {
+        self.whole.step(t, mesh);
+    }
+
+    fn step_rows(&mut self, t: f32, rows: MeshRows<'_>) {
+        self.whole.step_rows(t, rows);
+    }
+
+    fn boxed_clone(&self) -> Box<dyn Stepper> {
+        Box::new(self.clone())
+    }
+
+    fn phases(&self) -> usize {
+        2
+    }
+
+    fn step_phase(&mut self, phase: usize, t: f32, rows: MeshRows<'_>) {
+        let band = &self.shared.bands[self.band];
+        assert_eq!(
+            (rows.first_row, rows.rows()),
+            (band.start, band.len()),
+            "a band stepper fills its own band"
+        );
+        match phase {
+            0 => self.row_pass(t),
+            1 => self.column_pass(rows),
+            _ => unreachable!("two phases"),
+        }
+    }
+
+    fn split(&self, bands: &[Range<usize>]) -> Vec<Box<dyn Stepper>> {
+        self.whole.split(bands)
     }
 }

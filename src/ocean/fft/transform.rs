@@ -14,7 +14,8 @@ pub struct Inverse2d {
     n: usize,
     fft: Arc<dyn Fft<f32>>,
     scratch: Vec<Complex<f32>>,
-    /// The transpose's destination, swapped with the field it transposes.
+    /// The transpose's destination, swapped with the field it transposes (made on first use:
+    /// row passes alone never need it).
     spare: Vec<Complex<f32>>,
 }
 
@@ -33,7 +34,7 @@ impl Inverse2d {
             n,
             fft,
             scratch,
-            spare: vec![Complex::default(); n * n],
+            spare: Vec::new(),
         }
     }
 
@@ -42,6 +43,7 @@ impl Inverse2d {
     pub fn process(&mut self, field: &mut Vec<Complex<f32>>) {
         assert_eq!(field.len(), self.n * self.n, "an N×N field");
         self.rows(field);
+        self.spare.resize(field.len(), Complex::default());
         transpose::transpose(field, &mut self.spare, self.n, self.n);
         std::mem::swap(field, &mut self.spare);
         self.rows(field);
