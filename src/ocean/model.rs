@@ -29,6 +29,19 @@ crate::named! {
     }
 }
 
+/// Refuses a split among helpers for normals other than `analytic`: face normals at a band's
+/// edge need the neighbouring band's heights, which another helper is still computing.
+pub fn only_analytic_splits(normals: NormalMethod) -> Result<(), InputError> {
+    match normals {
+        NormalMethod::Analytic => Ok(()),
+        other => Err(InputError(format!(
+            "helpers: more than one helper needs normals `analytic`; `{}` normals at a \
+             band's edge need the neighbouring band's heights (not supported yet)",
+            other.name()
+        ))),
+    }
+}
+
 /// What the helper computes each frame. Implementations are stateless descriptions; the
 /// per-run state lives in the [`Stepper`] that [`Model::prepare`] builds.
 pub trait Model: Sync {

@@ -42,14 +42,7 @@ impl Model for FftOcean {
     /// barrier between them ([`FftState::split`]); face normals at a band's edge would need
     /// the neighbouring band's vertices.
     fn splits_into_rows(&self, normals: NormalMethod) -> Result<(), InputError> {
-        match normals {
-            NormalMethod::Analytic => Ok(()),
-            other => Err(InputError(format!(
-                "helpers: more than one helper needs normals `analytic`; `{}` normals at a \
-                 band's edge need the neighbouring band's vertices (not supported yet)",
-                other.name()
-            ))),
-        }
+        super::model::only_analytic_splits(normals)
     }
 
     fn check(&self, size: usize, normals: NormalMethod) -> Result<(), InputError> {

@@ -30,14 +30,7 @@ impl Model for Sines {
     /// Only analytic normals are a function of the vertex's own x, y and t; face normals need
     /// the heights of the rows next to a band.
     fn splits_into_rows(&self, normals: NormalMethod) -> Result<(), InputError> {
-        match normals {
-            NormalMethod::Analytic => Ok(()),
-            other => Err(InputError(format!(
-                "helpers: more than one helper needs normals `analytic`; `{}` normals at a \
-                 band's edge need the neighbouring band's heights (not supported yet)",
-                other.name()
-            ))),
-        }
+        super::model::only_analytic_splits(normals)
     }
 
     /// Refuses `lookup` on grids where one frame would take over a second.
