@@ -1,8 +1,9 @@
 //! Criterion benches of the FFT ocean at 512² beside rustfft alone: the model's transforms
 //! (the four packed spectra at t, then per field a row pass, a transpose and a row pass), the
 //! same four fields' row passes alone (2N transforms of length N per field, no transposes, no
-//! packing: the floor), and whole steps with `analytic` and `neighbors` normals; and whole
-//! steps at 64², 256² and 512².
+//! packing: the floor), whole steps with `analytic` and `neighbors` normals, and a step split
+//! in two bands with its phases run in turn on one thread (what splitting costs, without the
+//! threads); and whole steps at 64², 256² and 512².
 //!
 //! `cargo bench --bench fft -- --quick`. Each 2-D complex transform of M = N² points counts
 //! 5·M·log₂M flops, four per step; criterion's throughput is in those flops, so its
@@ -11,7 +12,7 @@
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use oceanbench::ocean::fft::spectrum::Spectrum;
 use oceanbench::ocean::fft::FftState;
-use oceanbench::ocean::{FftOcean, FftParams, Grid, Model, NormalMethod, OceanParams};
+use oceanbench::ocean::{FftOcean, FftParams, Grid, Model, NormalMethod, OceanParams, Stepper};
 use rustfft::num_complex::Complex;
 use rustfft::FftPlanner;
 
@@ -68,6 +69,19 @@ fn fft_512(c: &mut Criterion) {
             b.iter(|| stepper.step(black_box(1.5), &mut mesh))
         });
     }
+    let grid = Grid::new(N, 1.0).unwrap();
+    let mut mesh = FftOcean.mesh(grid);
+    let bands = [0..N / 2, N / 2..N];
+    let mut split = state.split(&bands);
+    group.bench_function("model step split in 2 bands, phases in turn", |b| {
+        b.iter(|| {
+            for phase in 0..2 {
+                for (stepper, band) in split.iter_mut().zip(&bands) {
+                    stepper.step_phase(phase, black_box(1.5), mesh.rows_mut(band.clone()));
+                }
+            }
+        })
+    });
     group.finish();
 }
 

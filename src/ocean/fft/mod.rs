@@ -367,6 +367,9 @@ impl Stepper for FftState {
     }
 }
 
+/// Output rows a column pass gathers at once.
+const GATHER: usize = 8;
+
 /// The first pass of every band of a split step, shared by its helpers: band h's transposed
 /// rows (x-wavenumber indices in its rows) of each field, written in phase 0 by helper h alone
 /// and read by every helper in phase 1. The locks are never contended when the frame loop's
@@ -411,10 +414,15 @@ impl FftBand {
         for (f, column) in self.columns.iter_mut().enumerate() {
             for (band, from) in self.shared.bands.iter().zip(&self.shared.fields) {
                 let from = from[f].read();
-                for (r, b) in band.clone().enumerate() {
-                    let source = &from[r * n..(r + 1) * n];
-                    for (i, value) in source[mine.clone()].iter().enumerate() {
-                        column[i * n + b] = *value;
+                // Eight output rows at a time: rows N apart share a cache set, and eight fit
+                // its ways, so each output line stays in L1 while it fills.
+                for i0 in (0..mine.len()).step_by(GATHER) {
+                    let i1 = (i0 + GATHER).min(mine.len());
+                    for (r, b) in band.clone().enumerate() {
+                        let at = r * n + mine.start;
+                        for (i, value) in (i0..i1).zip(&from[at + i0..at + i1]) {
+                            column[i * n + b] = *value;
+                        }
                     }
                 }
             }
