@@ -37,6 +37,9 @@ pub enum Command {
     Chart(ChartArgs),
     /// Compare two results files, or the alternatives within one run, with noise-aware verdicts.
     Compare(CompareArgs),
+    /// Write one self-contained HTML page of a run: what ran, the charts, the tables and, with
+    /// --baseline, the comparison with another run.
+    Report(ReportArgs),
     /// Hand-off round trip of every sync method on one core and across two, next to the raw
     /// cache-line ping-pong (the floor).
     Latency(LatencyArgs),
@@ -235,6 +238,9 @@ pub struct SweepArgs {
     /// Do not draw the charts at the end.
     #[arg(long)]
     pub no_charts: bool,
+    /// Do not write report.html at the end.
+    #[arg(long)]
+    pub no_report: bool,
     /// Continue the interrupted sweep in this results directory (only its missing cells).
     #[arg(long, conflicts_with = "out")]
     pub resume: Option<PathBuf>,
@@ -269,6 +275,26 @@ pub struct ChartArgs {
     /// dimension holds every chart at that value (default: the first measured).
     #[command(flatten)]
     pub select: DimArgs,
+}
+
+/// Flags of `oceanbench report`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "The page needs no network: charts are inline SVG, styles are in the page, there is no script.\n\nExamples:\n  oceanbench report results/figure-5-1-20261125T064618Z\n  oceanbench report results/new --baseline results/base --out new-vs-base.html"
+)]
+pub struct ReportArgs {
+    /// The results directory (or its results.json).
+    pub results: PathBuf,
+    /// Another run to compare with, cell by cell, as `compare BASELINE RESULTS` does.
+    #[arg(long)]
+    pub baseline: Option<PathBuf>,
+    /// The page to write (default: report.html in the results directory).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// With --baseline: a change counts only when its whole 95% interval clears this many
+    /// percent.
+    #[arg(long, default_value_t = compare::DEFAULT_THRESHOLD_PCT)]
+    pub threshold: f64,
 }
 
 crate::named! {

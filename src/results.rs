@@ -203,8 +203,9 @@ impl Placement {
 /// the config `camera`; absent, they mean the sums of sines, the synthetic workload in iterations
 /// and the default camera. 3: cells carry `trials` (each trial's breakdown, canaries, round
 /// trips and slow-trial causes) and the config `slow_trial_percent`; absent, a cell has no
-/// per-trial records and the threshold is 10.
-pub const SCHEMA_VERSION: u32 = 3;
+/// per-trial records and the threshold is 10. 4: the run records its `command` line; absent,
+/// it was not recorded.
+pub const SCHEMA_VERSION: u32 = 4;
 
 /// Files written before the field existed have today's layout, version 1.
 fn version_1() -> u32 {
@@ -219,6 +220,9 @@ pub struct Results {
     pub schema_version: u32,
     /// The machine measured on.
     pub machine: Machine,
+    /// The command line that started the run, program first (absent before schema 3).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub command: Option<Vec<String>>,
     /// The config as run.
     pub config: SweepConfig,
     /// Workload and step calibration.

@@ -144,6 +144,7 @@ impl Sweep {
             results: Results {
                 schema_version: crate::results::SCHEMA_VERSION,
                 machine: Machine::current(),
+                command: None,
                 config,
                 calibration,
                 round_trip: Placement {

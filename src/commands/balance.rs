@@ -1,7 +1,7 @@
 //! `oceanbench balance`: the workload at which the main thread stops waiting for the helper,
 //! per cell, with the speed-up curve around it.
 
-use super::{default_out_dir, interrupt, lock_cores, prepare_out_dir, CliError};
+use super::{command_line, default_out_dir, interrupt, lock_cores, prepare_out_dir, CliError};
 use crate::balance::{self, BalanceError, BalanceSettings};
 use crate::cell::{Axes, Dim};
 use crate::cli::BalanceArgs;
@@ -96,6 +96,7 @@ pub(super) fn balance(args: BalanceArgs) -> Result<(), CliError> {
         }
     }
     let mut results = sweep.results.clone();
+    results.command = Some(command_line());
     for key in &cells {
         eprintln!("oceanbench: searching {}", key.label());
         match balance::search(&sweep, key, &settings) {

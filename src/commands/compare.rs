@@ -1,18 +1,12 @@
 //! `oceanbench compare`: two runs cell by cell, or the values of one dimension within a run.
 
-use super::{load_results, CliError};
+use super::{check_threshold, load_results, CliError};
 use crate::cli::{CompareArgs, CompareFormat};
 use crate::config::InputError;
 use crate::report::compare;
 
 pub(super) fn compare(args: CompareArgs) -> Result<(), CliError> {
-    if !(args.threshold.is_finite() && args.threshold >= 0.0) {
-        return Err(InputError(format!(
-            "--threshold: must be a finite percentage >= 0, got {}",
-            args.threshold
-        ))
-        .into());
-    }
+    check_threshold(args.threshold)?;
     let base = load_results(&args.base)?;
     let comparison = match (&args.new, args.by, &args.baseline) {
         (Some(new), None, _) => {

@@ -7,6 +7,7 @@ mod doctor;
 mod interrupt;
 mod latency;
 mod mesh;
+mod report;
 mod run;
 mod sweep;
 
@@ -54,6 +55,7 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
         Command::Sweep(args) => sweep::sweep(args),
         Command::Chart(args) => chart::chart(args),
         Command::Compare(args) => compare::compare(args),
+        Command::Report(args) => report::report(args),
         Command::Latency(args) => latency::latency(args),
         Command::Mesh(args) => mesh::mesh(args),
         Command::Doctor(args) => doctor::doctor(args),
@@ -170,6 +172,24 @@ fn chosen_cores(given: Option<&[usize]>) -> Result<[usize; 2], InputError> {
             "--cores: give one or two core ids, got {}",
             affinity::list(&cores)
         ))),
+    }
+}
+
+/// The command line this process was started with, for the results file.
+fn command_line() -> Vec<String> {
+    std::env::args_os()
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect()
+}
+
+/// Refuses a `--threshold` that is not a finite percentage >= 0.
+fn check_threshold(threshold: f64) -> Result<(), InputError> {
+    if threshold.is_finite() && threshold >= 0.0 {
+        Ok(())
+    } else {
+        Err(InputError(format!(
+            "--threshold: must be a finite percentage >= 0, got {threshold}"
+        )))
     }
 }
 

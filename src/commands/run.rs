@@ -1,6 +1,6 @@
 //! `oceanbench run`: measure the cells the flags describe and print their statistics.
 
-use super::{fail_on_errors, interrupt, lock_cores, prepare_out_dir, CliError};
+use super::{command_line, fail_on_errors, interrupt, lock_cores, prepare_out_dir, CliError};
 use crate::cell::{Axes, Dim};
 use crate::cli::{DimArgs, RunArgs};
 use crate::config::{Level, SweepConfig};
@@ -78,7 +78,8 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
     let _core_locks = lock_cores(&config.placement()?, &args.wait)?;
     let stop = interrupt::flag();
     let sweep = Sweep::prepare(config)?.stopping_on(stop);
-    let results = sweep.run(&mut ());
+    let mut results = sweep.run(&mut ());
+    results.command = Some(command_line());
     if let Some(dir) = &args.out {
         report::write_all(dir, &results).map_err(anyhow::Error::from)?;
     }

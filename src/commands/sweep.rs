@@ -1,9 +1,9 @@
 //! `oceanbench sweep`: run a config (or resume one), write results after every row, print the
-//! table and draw the charts.
+//! table, draw the charts and write the HTML report.
 
 use super::{
-    default_out_dir, draw_charts, fail_on_errors, interrupt, load_results, lock_cores,
-    lock_out_dir, prepare_out_dir, results_dir, CliError,
+    command_line, default_out_dir, draw_charts, fail_on_errors, interrupt, load_results,
+    lock_cores, lock_out_dir, prepare_out_dir, results_dir, CliError,
 };
 use crate::cli::{NoiseArgs, SweepArgs};
 use crate::config::{InputError, SweepConfig};
@@ -82,6 +82,7 @@ fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf, Vec<Lock>)>, CliErr
         eprintln!("oceanbench: calibrating; results go to {}", dir.display());
         let mut sweep = Sweep::prepare(config)?;
         sweep.results.doctor = doctor;
+        sweep.results.command = Some(command_line());
         return Ok(Some((sweep, dir, locks)));
     };
     if args.noise != NoiseArgs::default() {
@@ -170,6 +171,11 @@ pub(super) fn sweep(args: SweepArgs) -> Result<(), CliError> {
             &dir,
             &ChartOptions::default(),
         )?;
+    }
+    if !args.no_report {
+        let page = super::report::default_path(&dir);
+        super::report::write(&results, &dir, None, &page)?;
+        println!("report: {}", page.display());
     }
     println!("Results: {}", dir.display());
     fail_on_errors(&results)

@@ -538,8 +538,41 @@ impl Comparison {
         ))
     }
 
+    /// The column headers of every format's table: verdict, change, interval, both means, cell.
+    pub fn header(&self) -> [String; 6] {
+        let [base, new] = self.headers();
+        [
+            "Verdict".to_string(),
+            "Change".into(),
+            "95% CI".into(),
+            base,
+            new,
+            "Cell".into(),
+        ]
+    }
+
+    /// Every change as a row under [`Comparison::header`], in the comparison's order.
+    pub fn table_rows(&self) -> Vec<[String; 6]> {
+        let all: Vec<&Change> = self.changes.iter().collect();
+        self.rows(&all, "")
+    }
+
+    /// The notes under a table: what the marks `*` and `†` mean and why some rows have no
+    /// verdict, each only when a row needs it.
+    pub fn footnotes(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if self.changes.iter().any(|c| c.single_trial) {
+            out.push("* one trial on a side: no interval, point estimate only".to_string());
+        }
+        out.extend(self.too_few_note());
+        if self.changes.iter().any(|c| c.noisy) {
+            out.push(NOISY_NOTE.to_string());
+        }
+        out
+    }
+
     /// The non-empty lists of cells that were not compared, each with its title.
-    fn unmatched(&self) -> Vec<(&'static str, &[String])> {
+    pub fn unmatched(&self) -> Vec<(&'static str, &[String])> {
         let [only_base, only_new] = if self.by.is_some() {
             [
                 "Baseline cells with nothing to compare",
@@ -596,15 +629,7 @@ impl Comparison {
         for w in &self.warnings {
             let _ = writeln!(out, "warning: {w}");
         }
-        let [base, new] = self.headers();
-        let header = [
-            "Verdict".to_string(),
-            "Change".into(),
-            "95% CI".into(),
-            base,
-            new,
-            "Cell".into(),
-        ];
+        let header = self.header();
         let all: Vec<&Change> = self.changes.iter().collect();
         let rows = self.rows(&all, " ");
         if !rows.is_empty() {
@@ -633,17 +658,8 @@ impl Comparison {
                 let _ = writeln!(out, "{}", cols.join("  ").trim_end());
             }
         }
-        if self.changes.iter().any(|c| c.single_trial) {
-            let _ = writeln!(
-                out,
-                "* one trial on a side: no interval, point estimate only"
-            );
-        }
-        if let Some(note) = self.too_few_note() {
+        for note in self.footnotes() {
             let _ = writeln!(out, "{note}");
-        }
-        if self.changes.iter().any(|c| c.noisy) {
-            let _ = writeln!(out, "{NOISY_NOTE}");
         }
         for (title, list) in self.unmatched() {
             let _ = writeln!(out, "{title} ({}):", list.len());
@@ -697,17 +713,12 @@ impl Comparison {
             table(&mut out, &quiet);
             let _ = writeln!(out, "\n</details>\n");
         }
-        if self.changes.iter().any(|c| c.single_trial) {
-            let _ = writeln!(
-                out,
-                "\\* one trial on a side: no interval, point estimate only\n"
-            );
-        }
-        if let Some(note) = self.too_few_note() {
+        for note in self.footnotes() {
+            // A leading `*` would start a markdown list.
+            let note = note
+                .strip_prefix('*')
+                .map_or(note.clone(), |n| format!("\\*{n}"));
             let _ = writeln!(out, "{note}\n");
-        }
-        if self.changes.iter().any(|c| c.noisy) {
-            let _ = writeln!(out, "{NOISY_NOTE}\n");
         }
         for (title, list) in self.unmatched() {
             let items: String = list.iter().map(|l| format!("- `{l}`\n")).collect();

@@ -11,15 +11,53 @@ use std::fmt::Write;
 use strum::VariantArray;
 
 /// Marks a cell that kept trials disturbed beyond the noise threshold.
-const NOISY: &str = "†";
+pub const NOISY: &str = "†";
 
 /// Marks a cell with a slow trial that nothing recorded explains.
-const UNEXPLAINED: &str = "‡";
+pub const UNEXPLAINED: &str = "‡";
 
 /// Worst cells a warning names before it points to the full list.
 const WORST_NAMED: usize = 5;
 
-fn fps(cell: Option<&Cell>) -> String {
+/// A table as text cells, drawn as markdown here and as HTML by `report::html`, so both show
+/// the same figures.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Table {
+    /// The heading above it.
+    pub title: String,
+    /// Column headers.
+    pub header: Vec<String>,
+    /// Which columns hold numbers (right-aligned).
+    pub numeric: Vec<bool>,
+    /// The rows, one text per column.
+    pub rows: Vec<Vec<String>>,
+    /// Lines under the table.
+    pub notes: Vec<String>,
+}
+
+impl Table {
+    /// The table as markdown: its heading, the rows, then its notes.
+    pub fn to_markdown(&self) -> String {
+        let mut out = format!("### {}\n\n| {} |\n|", self.title, self.header.join(" | "));
+        for &n in &self.numeric {
+            out.push_str(if n { "---:|" } else { "---|" });
+        }
+        out.push('\n');
+        for r in &self.rows {
+            let _ = writeln!(out, "| {} |", r.join(" | "));
+        }
+        out.push('\n');
+        if !self.notes.is_empty() {
+            out.push_str(&self.notes.join("\n"));
+            out.push_str("\n\n");
+        }
+        out
+    }
+}
+
+/// A cell's FPS with its spread over trials, marked [`NOISY`] when it kept noisy trials and
+/// [`UNEXPLAINED`] when a slow trial has no recorded cause; `failed` or `–` when there is none.
+pub fn fps(cell: Option<&Cell>) -> String {
     match cell {
         Some(
             c @ Cell {
@@ -62,38 +100,10 @@ pub fn preamble(results: &Results) -> String {
             "**Placement changed mid-run**: cross-core round trip ranged {lo:.0}-{hi:.0} ns  "
         );
     }
-    if let Some(rt) = &results.round_trip.before {
-        let during: Vec<f64> = results
-            .round_trip
-            .during
-            .iter()
-            .map(|r| r.median_ns)
-            .collect();
-        let during = if during.is_empty() {
-            String::new()
-        } else {
-            let lo = during.iter().copied().fold(f64::INFINITY, f64::min);
-            let hi = during.iter().copied().fold(0.0, f64::max);
-            format!(", during {lo:.0}-{hi:.0} ns")
-        };
-        let after = results
-            .round_trip
-            .after
-            .as_ref()
-            .map_or(String::new(), |a| format!(", after {:.0} ns", a.median_ns));
-        let _ = writeln!(
-            out,
-            "Cross-core round trip (cores {},{}): before {:.0} ns{during}{after}  ",
-            rt.cores[0], rt.cores[1], rt.median_ns
-        );
+    if let Some(line) = round_trip(results) {
+        let _ = writeln!(out, "Cross-core round trip {line}  ");
     }
-    let levels: Vec<String> = results
-        .calibration
-        .levels
-        .iter()
-        .map(|l| format!("{}: {:.0} µs", l.workload, l.micros))
-        .collect();
-    let _ = writeln!(out, "Workload levels: {}  ", levels.join(", "));
+    let _ = writeln!(out, "Workload levels: {}  ", levels(results));
     let calibrated = results.cells.iter().find_map(|c| c.calibration.as_ref());
     if let Some(c) = calibrated {
         let _ = writeln!(
@@ -116,6 +126,45 @@ pub fn preamble(results: &Results) -> String {
         results.started
     );
     out
+}
+
+/// `(cores a,b): before X ns, during lo-hi ns, after Y ns`; `None` when the round trip was
+/// not measured before the run (one core, or a file from before it was recorded).
+pub fn round_trip(results: &Results) -> Option<String> {
+    let rt = results.round_trip.before.as_ref()?;
+    let during: Vec<f64> = results
+        .round_trip
+        .during
+        .iter()
+        .map(|r| r.median_ns)
+        .collect();
+    let during = if during.is_empty() {
+        String::new()
+    } else {
+        let lo = during.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = during.iter().copied().fold(0.0, f64::max);
+        format!(", during {lo:.0}-{hi:.0} ns")
+    };
+    let after = results
+        .round_trip
+        .after
+        .as_ref()
+        .map_or(String::new(), |a| format!(", after {:.0} ns", a.median_ns));
+    Some(format!(
+        "(cores {},{}): before {:.0} ns{during}{after}",
+        rt.cores[0], rt.cores[1], rt.median_ns
+    ))
+}
+
+/// Each workload level's microseconds at the start: `0: 0 µs, 1: 83 µs, ...`.
+pub fn levels(results: &Results) -> String {
+    results
+        .calibration
+        .levels
+        .iter()
+        .map(|l| format!("{}: {:.0} µs", l.workload, l.micros))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// What makes a run's figures less trustworthy: rows whose yardstick drifted since the start
@@ -222,6 +271,24 @@ fn slow_trial_warning(results: &Results) -> Option<String> {
 /// only the worst.
 fn slow_and_noisy(results: &Results) -> String {
     let mut out = String::new();
+    if let Some(t) = slow_trials(results) {
+        out.push('\n');
+        out.push_str(t.to_markdown().trim_end_matches('\n'));
+        out.push('\n');
+    }
+    let noisy = noisy_cells(results);
+    if !noisy.is_empty() {
+        let _ = writeln!(out, "\n### Noisy cells\n");
+        for line in noisy {
+            let _ = writeln!(out, "- {line}");
+        }
+    }
+    out
+}
+
+/// Every slow trial: its cell, FPS, how far below the cell's median, its causes and their
+/// evidence; `None` when no trial was slow.
+pub fn slow_trials(results: &Results) -> Option<Table> {
     let slow: Vec<(&Cell, usize, &TrialRecord, &Slow)> = results
         .cells
         .iter()
@@ -232,13 +299,24 @@ fn slow_and_noisy(results: &Results) -> String {
                 .filter_map(move |(i, t)| Some((c, i, t, t.slow.as_ref()?)))
         })
         .collect();
-    if !slow.is_empty() {
-        let _ = writeln!(
-            out,
-            "\n### Slow trials\n\n| cell | trial | FPS | below median | causes | off core / steal | step ÷ median | workload ÷ calibration | round trip before / after |\n|---|---:|---:|---:|---|---:|---:|---:|---:|"
-        );
-        let ratio = |r: Option<f64>| r.map_or("–".to_string(), |r| format!("{r:.2}"));
-        for (c, i, t, s) in slow {
+    if slow.is_empty() {
+        return None;
+    }
+    let header = [
+        "cell",
+        "trial",
+        "FPS",
+        "below median",
+        "causes",
+        "off core / steal",
+        "step ÷ median",
+        "workload ÷ calibration",
+        "round trip before / after",
+    ];
+    let ratio = |r: Option<f64>| r.map_or("–".to_string(), |r| format!("{r:.2}"));
+    let rows = slow
+        .into_iter()
+        .map(|(c, i, t, s)| {
             let noise = c.noise.as_ref().and_then(|n| n.trials.get(i));
             let causes: Vec<&str> = s.causes.iter().map(|c| c.name()).collect();
             let taken = noise.map_or("–".to_string(), |n| {
@@ -247,37 +325,49 @@ fn slow_and_noisy(results: &Results) -> String {
             let trips = t
                 .round_trip_ns
                 .map_or("–".to_string(), |[a, b]| format!("{a:.0} / {b:.0} ns"));
-            let _ = writeln!(
-                out,
-                "| {} | {} | {:.1} | {:.0}% | {} | {taken} | {} | {} | {trips} |",
+            vec![
                 c.key.label(),
-                i + 1,
-                t.fps,
-                s.below_median_percent,
+                (i + 1).to_string(),
+                format!("{:.1}", t.fps),
+                format!("{:.0}%", s.below_median_percent),
                 causes.join(", "),
+                taken,
                 ratio(t.step_ratio),
                 ratio(t.workload_ratio),
-            );
-        }
-    }
+                trips,
+            ]
+        })
+        .collect();
+    Some(Table {
+        title: "Slow trials".into(),
+        header: header.map(String::from).to_vec(),
+        numeric: header.map(|h| !matches!(h, "cell" | "causes")).to_vec(),
+        rows,
+        notes: Vec::new(),
+    })
+}
+
+/// One line per noisy cell (its trials, the most taken from it), when there are more than the
+/// noise warning names; empty otherwise.
+pub fn noisy_cells(results: &Results) -> Vec<String> {
     let noisy: Vec<&Cell> = results.cells.iter().filter(|c| c.noisy()).collect();
-    if noisy.len() > WORST_NAMED {
-        let _ = writeln!(out, "\n### Noisy cells\n");
-        for c in noisy {
-            if let Some(n) = &c.noise {
-                let _ = writeln!(
-                    out,
-                    "- {}: {} of {} trials, off its core up to {:.1}%, steal up to {:.1}%",
-                    c.key.label(),
-                    n.noisy_trials(),
-                    n.trials.len(),
-                    n.preempted_percent(),
-                    n.steal_percent()
-                );
-            }
-        }
+    if noisy.len() <= WORST_NAMED {
+        return Vec::new();
     }
-    out
+    noisy
+        .iter()
+        .filter_map(|c| {
+            let n = c.noise.as_ref()?;
+            Some(format!(
+                "{}: {} of {} trials, off its core up to {:.1}%, steal up to {:.1}%",
+                c.key.label(),
+                n.noisy_trials(),
+                n.trials.len(),
+                n.preempted_percent(),
+                n.steal_percent()
+            ))
+        })
+        .collect()
 }
 
 /// The whole markdown report.
@@ -449,19 +539,31 @@ pub fn waiting(results: &Results) -> String {
 /// bracket, DP ÷ serial and DP ÷ UP there with their 95% intervals, the overhead above
 /// max(W, S), and where the run's workload levels fall against S. Empty when none was searched.
 pub fn balance(results: &Results) -> String {
+    balance_table(results).map_or(String::new(), |t| t.to_markdown())
+}
+
+/// The table of [`balance`]; `None` when no balance point was searched.
+pub fn balance_table(results: &Results) -> Option<Table> {
     if results.balance.is_empty() && results.balance_failures.is_empty() {
-        return String::new();
+        return None;
     }
-    let mut out = String::from(
-        "### Balance points\n\n\
-         | cell | step S (µs) | balance W (µs) | W ÷ S | DP ÷ serial | DP ÷ UP | overhead | levels ÷ S | round trip (ns) |\n\
-         |---|---:|---:|---:|---:|---:|---:|---|---:|\n",
-    );
+    let header = [
+        "cell",
+        "step S (µs)",
+        "balance W (µs)",
+        "W ÷ S",
+        "DP ÷ serial",
+        "DP ÷ UP",
+        "overhead",
+        "levels ÷ S",
+        "round trip (ns)",
+    ];
     let interval =
         |v: Option<f64>, lo: Option<f64>, hi: Option<f64>, digits: usize| match (v, lo, hi) {
             (Some(v), Some(lo), Some(hi)) => format!("{v:.digits$} [{lo:.digits$}, {hi:.digits$}]"),
             _ => "–".into(),
         };
+    let mut rows = Vec::new();
     let mut notes = Vec::new();
     for e in &results.balance {
         let levels: Vec<String> = results
@@ -472,22 +574,20 @@ pub fn balance(results: &Results) -> String {
             .map(|l| format!("w{} {:.2}", l.workload, l.micros / e.step_us))
             .collect();
         let label = e.key.label_without(&[Dim::Workload]);
-        let _ = writeln!(
-            out,
-            "| {label} | {:.0} | {} | {} | {} | {} | {} | {} | {} |",
-            e.step_us,
+        rows.push(vec![
+            label.clone(),
+            format!("{:.0}", e.step_us),
             interval(e.balance_us, e.balance_us_low, e.balance_us_high, 0),
             e.fraction().map_or("–".into(), |f| format!("{f:.2}")),
             interval(
                 e.dp_over_serial,
                 e.dp_over_serial_low,
                 e.dp_over_serial_high,
-                2
+                2,
             ),
-            e.dp_over_up.map_or("–".into(), |r| format!(
-                "{:.2} [{:.2}, {:.2}]",
-                r.value, r.low, r.high
-            )),
+            e.dp_over_up.map_or("–".into(), |r| {
+                format!("{:.2} [{:.2}, {:.2}]", r.value, r.low, r.high)
+            }),
             e.overhead_percent
                 .map_or("–".into(), |o| format!("{o:+.1}%")),
             levels.join(", "),
@@ -496,23 +596,24 @@ pub fn balance(results: &Results) -> String {
                 .map(|r| format!("{r:.0}"))
                 .collect::<Vec<_>>()
                 .join(", "),
-        );
+        ]);
         if let Some(n) = &e.note {
             notes.push(format!("- {label}: {n}"));
         }
     }
-    out.push('\n');
     notes.extend(
         results
             .balance_failures
             .iter()
             .map(|f| format!("- no balance point: {f}")),
     );
-    if !notes.is_empty() {
-        out.push_str(&notes.join("\n"));
-        out.push_str("\n\n");
-    }
-    out
+    Some(Table {
+        title: "Balance points".into(),
+        header: header.map(String::from).to_vec(),
+        numeric: header.map(|h| !matches!(h, "cell" | "levels ÷ S")).to_vec(),
+        rows,
+        notes,
+    })
 }
 
 /// The dimensions every table lays out: rows are size × workload, columns the modes.
@@ -521,6 +622,11 @@ const TABLE_DIMS: [Dim; 3] = [Dim::Size, Dim::Workload, Dim::Mode];
 /// One Figure 5-1 table per combination of the other dimensions found among threaded cells; the
 /// serial column comes from the serial cell of the same row.
 pub fn tables(results: &Results) -> String {
+    fps_tables(results).iter().map(Table::to_markdown).collect()
+}
+
+/// The tables of [`tables`].
+pub fn fps_tables(results: &Results) -> Vec<Table> {
     // A group is a key with the table's own dimensions set to placeholders.
     let group_of = |key: &CellKey| -> CellKey {
         let mut g = key.clone();
@@ -550,41 +656,57 @@ pub fn tables(results: &Results) -> String {
             rows.push((c.key.size, c.key.workload));
         }
     }
-    let mut out = String::new();
-    for g in groups {
-        let heading: Vec<String> = Dim::ALL
-            .iter()
-            .filter(|d| !TABLE_DIMS.contains(d))
-            .filter_map(|&d| {
-                let v = g.get(d)?;
-                (Some(v) != d.quiet()).then(|| d.title(v))
-            })
-            .collect();
-        let _ = writeln!(out, "### FPS, {}\n", heading.join(", "));
-        out.push_str("| mesh | workload | serial | UP | DP | DP÷UP | DP÷serial |\n");
-        out.push_str("|---|---:|---:|---:|---:|---:|---:|\n");
-        for &(size, workload) in &rows {
-            let find = |mode: Mode| {
-                let key = CellKey {
-                    size,
-                    workload,
-                    ..g.clone()
-                }
-                .with(Dim::Mode, mode.value())?;
-                results.cell(&key)
-            };
-            let (s, u, d) = (find(Mode::Serial), find(Mode::Up), find(Mode::Dp));
-            let _ = writeln!(
-                out,
-                "| {size}×{size} | {workload} | {} | {} | {} | {} | {} |",
-                fps(s),
-                fps(u),
-                fps(d),
-                ratio(d, u),
-                ratio(d, s)
-            );
-        }
-        out.push('\n');
-    }
-    out
+    let header = [
+        "mesh",
+        "workload",
+        "serial",
+        "UP",
+        "DP",
+        "DP÷UP",
+        "DP÷serial",
+    ];
+    groups
+        .into_iter()
+        .map(|g| {
+            let heading: Vec<String> = Dim::ALL
+                .iter()
+                .filter(|d| !TABLE_DIMS.contains(d))
+                .filter_map(|&d| {
+                    let v = g.get(d)?;
+                    (Some(v) != d.quiet()).then(|| d.title(v))
+                })
+                .collect();
+            let rows = rows
+                .iter()
+                .map(|&(size, workload)| {
+                    let find = |mode: Mode| {
+                        let key = CellKey {
+                            size,
+                            workload,
+                            ..g.clone()
+                        }
+                        .with(Dim::Mode, mode.value())?;
+                        results.cell(&key)
+                    };
+                    let (s, u, d) = (find(Mode::Serial), find(Mode::Up), find(Mode::Dp));
+                    vec![
+                        format!("{size}×{size}"),
+                        workload.to_string(),
+                        fps(s),
+                        fps(u),
+                        fps(d),
+                        ratio(d, u),
+                        ratio(d, s),
+                    ]
+                })
+                .collect();
+            Table {
+                title: format!("FPS, {}", heading.join(", ")),
+                header: header.map(String::from).to_vec(),
+                numeric: header.map(|h| h != "mesh").to_vec(),
+                rows,
+                notes: Vec::new(),
+            }
+        })
+        .collect()
 }

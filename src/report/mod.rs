@@ -1,10 +1,11 @@
 //! Outputs drawn from results files alone: JSON (the file itself), a tidy CSV, the Figure 5-1
-//! markdown table, the charts and the comparisons. The three tables are rewritten whole,
+//! markdown table, the charts, the comparisons and the HTML page. The three tables are rewritten whole,
 //! atomically, after every finished row of cells.
 
 pub mod chart;
 pub mod compare;
 pub mod csv;
+pub mod html;
 pub mod json;
 pub mod markdown;
 pub mod shift;

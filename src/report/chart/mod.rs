@@ -141,26 +141,8 @@ pub fn draw_with(
         path: out_dir.to_path_buf(),
         source,
     })?;
-    let runs = Runs::new(results, &options.select);
-    let selected = |dim| {
-        options
-            .select
-            .iter()
-            .find(|(d, _)| *d == dim)
-            .and_then(|&(_, v)| usize::from_value(v))
-    };
-    let focus = runs.focus(selected(Dim::Size), selected(Dim::Workload));
-    let built = [
-        bars::figure_5_1(&runs),
-        bars::relative(&runs),
-        bars::sync(&runs),
-        frames::frame_times(&runs, focus),
-        frames::breakdown(&runs, focus),
-        latency::latency_vs_fps(&runs, focus),
-        balance::balance(&runs),
-    ];
     let mut drawn = Drawn::default();
-    for (name, chart) in CHARTS.into_iter().zip(built) {
+    for (name, chart) in CHARTS.into_iter().zip(build(results, options)) {
         match chart {
             Ok(chart) => {
                 for &format in &options.formats {
@@ -176,6 +158,45 @@ pub fn draw_with(
         }
     }
     Ok(drawn)
+}
+
+/// A chart by its name in [`CHARTS`]: its SVG text, or why it has nothing to draw.
+pub type Svg = (&'static str, Result<String, NothingToDraw>);
+
+/// Every chart of [`CHARTS`], in that order, as SVG text (for pages that inline them).
+/// `options.formats` is not used.
+pub fn svgs(results: &[Results], options: &ChartOptions) -> Result<Vec<Svg>, ChartError> {
+    render::register_font()?;
+    CHARTS
+        .into_iter()
+        .zip(build(results, options))
+        .map(|(name, chart)| match chart {
+            Ok(chart) => Ok((name, Ok(render::svg(&chart, name)?))),
+            Err(why) => Ok((name, Err(why))),
+        })
+        .collect()
+}
+
+/// Every chart of [`CHARTS`] as data, in that order.
+fn build(results: &[Results], options: &ChartOptions) -> [Result<render::Chart, NothingToDraw>; 7] {
+    let runs = Runs::new(results, &options.select);
+    let selected = |dim| {
+        options
+            .select
+            .iter()
+            .find(|(d, _)| *d == dim)
+            .and_then(|&(_, v)| usize::from_value(v))
+    };
+    let focus = runs.focus(selected(Dim::Size), selected(Dim::Workload));
+    [
+        bars::figure_5_1(&runs),
+        bars::relative(&runs),
+        bars::sync(&runs),
+        frames::frame_times(&runs, focus),
+        frames::breakdown(&runs, focus),
+        latency::latency_vs_fps(&runs, focus),
+        balance::balance(&runs),
+    ]
 }
 
 /// Method colours, in the methods' declaration order: the Okabe-Ito palette first (the paper's

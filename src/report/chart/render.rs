@@ -199,6 +199,20 @@ pub(super) fn write(chart: &Chart, path: &Path, format: ChartFormat) -> Result<(
     })
 }
 
+/// The chart as SVG text; `name` names it in an error.
+pub(super) fn svg(chart: &Chart, name: &str) -> Result<String, ChartError> {
+    let mut text = String::new();
+    draw(
+        &SVGBackend::with_string(&mut text, chart.size).into_drawing_area(),
+        chart,
+    )
+    .map_err(|e| ChartError::Draw {
+        path: format!("{name}.svg").into(),
+        message: e.to_string(),
+    })?;
+    Ok(text)
+}
+
 /// What a plotters backend reported; its error type differs per backend, so it is kept as text.
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]

@@ -1,0 +1,57 @@
+//! `oceanbench report`: one self-contained HTML page of a run, optionally compared with a
+//! baseline run.
+
+use super::{check_threshold, load_results, results_dir, CliError};
+use crate::cli::ReportArgs;
+use crate::config::InputError;
+use crate::report::compare::{self, Metric};
+use crate::report::html::{self, Baseline};
+use crate::report::json;
+use crate::results::Results;
+use std::path::{Path, PathBuf};
+
+pub(super) fn report(args: ReportArgs) -> Result<(), CliError> {
+    check_threshold(args.threshold)?;
+    let results = load_results(&args.results)?;
+    let comparison = match &args.baseline {
+        Some(path) => {
+            let base = load_results(path)?;
+            let c = compare::between(&base, &results, args.threshold, Metric::Fps);
+            if let Some(why) = c.nothing_compared() {
+                return Err(InputError(format!("--baseline: {why}")).into());
+            }
+            Some((path, c))
+        }
+        None => None,
+    };
+    let baseline_name = comparison.as_ref().map(|(p, _)| p.display().to_string());
+    let baseline = comparison
+        .as_ref()
+        .zip(baseline_name.as_deref())
+        .map(|((_, comparison), name)| Baseline { name, comparison });
+    let out = args
+        .out
+        .unwrap_or_else(|| default_path(&results_dir(&args.results)));
+    write(&results, &args.results, baseline.as_ref(), &out)?;
+    println!("report: {}", out.display());
+    Ok(())
+}
+
+/// Writes the page of `results` (read from `source`) to `out`, atomically.
+pub(super) fn write(
+    results: &Results,
+    source: &Path,
+    baseline: Option<&Baseline>,
+    out: &Path,
+) -> Result<(), CliError> {
+    let page = html::page(results, &source.display().to_string(), baseline)
+        .map_err(anyhow::Error::from)?;
+    json::write_atomic(out, page.as_bytes())
+        .map_err(|e| anyhow::anyhow!("writing {}: {e}", out.display()))?;
+    Ok(())
+}
+
+/// Where `sweep` writes its page.
+pub(super) fn default_path(dir: &Path) -> PathBuf {
+    dir.join("report.html")
+}
