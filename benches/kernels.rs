@@ -9,7 +9,7 @@ use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criteri
 use oceanbench::ocean::normals::FaceNormals;
 use oceanbench::ocean::sines::fast::{FastKernel, StencilNormals};
 use oceanbench::ocean::sines::reference;
-use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, WaveSet};
+use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, OceanParams, WaveSet};
 
 const SIZES: [usize; 5] = [40, 128, 256, 512, 1024];
 
@@ -59,7 +59,7 @@ fn neighbors_only(c: &mut Criterion) {
 }
 
 fn full_step(c: &mut Criterion) {
-    let waves = WaveSet::default();
+    let params = OceanParams::default();
     for normals in [
         NormalMethod::Analytic,
         NormalMethod::Neighbors,
@@ -75,7 +75,7 @@ fn full_step(c: &mut Criterion) {
             for kernel in [Kernel::Reference, Kernel::Fast] {
                 let mut ocean = OceanKind::Sines
                     .model()
-                    .prepare(grid, &waves, normals, kernel)
+                    .prepare(grid, &params, normals, kernel)
                     .unwrap();
                 let mut mesh = Mesh::new(grid);
                 group.bench_function(BenchmarkId::new(kernel.name(), n), |b| {

@@ -8,7 +8,7 @@
 
 pub use crate::config::Calibrate;
 use crate::config::Level;
-use crate::ocean::{Grid, Mesh, OceanKind, WaveSet};
+use crate::ocean::{Grid, Mesh, OceanKind, OceanParams};
 use crate::stats;
 use crate::workload;
 use serde::{Deserialize, Serialize};
@@ -47,7 +47,7 @@ impl Yardstick {
     pub fn measure(
         sizes: &[usize],
         spacing: f32,
-        waves: &WaveSet,
+        params: &OceanParams,
         sample_iterations: u64,
         min_rounds: usize,
         min_time: Duration,
@@ -60,7 +60,7 @@ impl Yardstick {
                 let model = LEVEL_OCEAN.model();
                 let (kernel, normals) = model.yardstick();
                 let mut ocean = model
-                    .prepare(grid, waves, normals, kernel)
+                    .prepare(grid, params, normals, kernel)
                     .expect("a model's yardstick accepts every valid size");
                 let mut mesh = model.mesh(grid);
                 ocean.step(0.0, &mut mesh);
@@ -198,7 +198,14 @@ mod tests {
 
     #[test]
     fn the_yardstick_measures_every_size_and_the_workload() {
-        let y = Yardstick::measure(&[8, 16], 1.0, &WaveSet::default(), 1000, 3, Duration::ZERO);
+        let y = Yardstick::measure(
+            &[8, 16],
+            1.0,
+            &OceanParams::default(),
+            1000,
+            3,
+            Duration::ZERO,
+        );
         assert_eq!(y.step_ms.len(), 2);
         assert!(y.step_of(8).unwrap() > 0.0 && y.step_of(16).unwrap() > 0.0);
         assert!(y.step_of(32).is_none());

@@ -178,6 +178,9 @@ pub struct RunArgs {
     /// Waves file (JSON); default: the built-in deep-ocean set.
     #[arg(long)]
     pub waves: Option<PathBuf>,
+    /// The FFT ocean's parameters file (JSON); default: the values of configs/fft-ocean.json.
+    #[arg(long)]
+    pub fft_params: Option<PathBuf>,
     /// Measured frames per trial, at least.
     #[arg(long, default_value_t = 200)]
     pub frames: u64,
@@ -413,7 +416,7 @@ pub struct DoctorArgs {
 /// Flags of `oceanbench mesh`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "Example:\n  oceanbench mesh --size 32 --time 10 --waves my-waves.json --out frame.csv"
+    after_help = "Examples:\n  oceanbench mesh --size 32 --time 10 --waves my-waves.json --out frame.csv\n  oceanbench mesh --ocean fft --size 256 --time 10 --out fft.csv"
 )]
 pub struct MeshArgs {
     /// Mesh size N (N×N vertices).
@@ -422,12 +425,15 @@ pub struct MeshArgs {
     /// Simulated time t in seconds.
     #[arg(long, allow_negative_numbers = true)]
     pub time: f32,
-    /// Distance between vertices.
+    /// Distance between vertices (the sines; the fft ocean's is its patch ÷ size).
     #[arg(long, default_value_t = 1.0)]
     pub spacing: f32,
     /// Waves file (JSON); default: the built-in deep-ocean set.
     #[arg(long)]
     pub waves: Option<PathBuf>,
+    /// The FFT ocean's parameters file (JSON); default: the values of configs/fft-ocean.json.
+    #[arg(long)]
+    pub fft_params: Option<PathBuf>,
     /// Which ocean model computes the surface.
     #[arg(long, value_enum, default_value = "sines")]
     pub ocean: crate::ocean::OceanKind,

@@ -6,7 +6,7 @@ use crate::balance::record::BalanceSettings;
 use crate::camera::Camera;
 use crate::cell::{Axes, CellKey};
 use crate::frame_loop::{check_depth, check_helpers, Budget, Mode};
-use crate::ocean::{mesh, Grid, Mesh, Wave, WaveSet};
+use crate::ocean::{mesh, FftParams, Grid, Mesh, OceanParams, Wave, WaveSet};
 use crate::suggest;
 use crate::workload::WorkloadKind;
 use serde::{Deserialize, Serialize};
@@ -185,6 +185,8 @@ pub struct SweepConfig {
     pub waves: Option<Vec<Wave>>,
     /// A waves file, instead of `waves`.
     pub waves_file: Option<PathBuf>,
+    /// The FFT ocean's parameters file (default: the values of `configs/fft-ocean.json`).
+    pub fft_params: Option<PathBuf>,
     /// Cores for main and helper: [main] or [main, helper] (default: the first allowed).
     pub cores: Option<Vec<usize>>,
     /// Seconds a hand-off wait may take before the cell is aborted.
@@ -221,6 +223,7 @@ impl Default for SweepConfig {
             time_step: 1.0 / 60.0,
             waves: None,
             waves_file: None,
+            fft_params: None,
             cores: None,
             timeout_seconds: 5.0,
             inject_stall_at_frame: None,
@@ -295,15 +298,20 @@ impl SweepConfig {
     }
 
     /// Reads and validates a config file; `name` defaults to the file's stem, and a relative
-    /// `waves_file` is found next to the config.
+    /// `waves_file` or `fft_params` is found next to the config.
     pub fn load(path: &Path) -> Result<Self, InputError> {
         let text = std::fs::read_to_string(path)
             .map_err(|e| InputError(format!("config {}: {e}", path.display())))?;
         let in_file = |e: InputError| InputError(format!("{}: {e}", path.display()));
         let mut config = parse_config(&text).map_err(in_file)?;
-        if let (Some(file), Some(dir)) = (&config.waves_file, path.parent()) {
-            if file.is_relative() {
-                config.waves_file = Some(dir.join(file));
+        if let Some(dir) = path.parent() {
+            for file in [&mut config.waves_file, &mut config.fft_params]
+                .into_iter()
+                .flatten()
+            {
+                if file.is_relative() {
+                    *file = dir.join(&*file);
+                }
             }
         }
         let named =
@@ -343,6 +351,18 @@ impl SweepConfig {
             (None, Some(path)) => WaveSet::load(path).map_err(|e| InputError(e.to_string())),
             (None, None) => Ok(WaveSet::default()),
         }
+    }
+
+    /// Every model's parameters the config asks for.
+    pub fn ocean_params(&self) -> Result<OceanParams, InputError> {
+        let fft = match &self.fft_params {
+            Some(path) => FftParams::load(path)?,
+            None => FftParams::default(),
+        };
+        Ok(OceanParams {
+            waves: self.wave_set()?,
+            fft,
+        })
     }
 
     /// The trial budget.
@@ -487,7 +507,7 @@ impl SweepConfig {
             b.validate("balance.")?;
         }
         self.camera.validate()?;
-        self.wave_set()?;
+        self.ocean_params()?;
         self.placement()?;
         for key in self.axes.cells() {
             check_cell(&key)?;

@@ -10,7 +10,7 @@ use crate::crosscore;
 use crate::frame_loop::{self, Budget, LoopError, LoopSpec, Mode, Threading};
 use crate::machine::Machine;
 use crate::measure::{Breakdown, Mailbox, Summary, Trial};
-use crate::ocean::{Grid, WaveSet};
+use crate::ocean::{Grid, OceanParams};
 use crate::results::{
     CalibrationRecord, Cell, CellKey, CellNoise, LevelRecord, Pins, Placement, Results, StepTime,
 };
@@ -29,13 +29,13 @@ pub fn cells(config: &SweepConfig) -> Vec<CellKey> {
 
 /// Measures the workload speed and the yardstick (every listed size and every size a level
 /// refers to), and resolves every level to iterations.
-pub fn calibrate(config: &SweepConfig, waves: &WaveSet) -> CalibrationRecord {
+pub fn calibrate(config: &SweepConfig, params: &OceanParams) -> CalibrationRecord {
     let workload = Calibration::measure(9);
     let sizes = calibrate::yardstick_sizes(&config.axes.sizes, &config.workload_levels);
     let start = Yardstick::measure(
         &sizes,
         config.spacing,
-        waves,
+        params,
         workload.sample_iterations,
         7,
         Duration::from_millis(500),
@@ -110,11 +110,11 @@ pub struct Progress<'a> {
     pub cell: &'a CellKey,
 }
 
-/// A sweep ready to run: validated config, waves, placement and calibration.
+/// A sweep ready to run: validated config, ocean parameters, placement and calibration.
 pub struct Sweep {
     /// The results so far (cells grow as groups finish).
     pub results: Results,
-    waves: WaveSet,
+    params: OceanParams,
     cores: [usize; 2],
     keys: Vec<CellKey>,
     stop: Arc<AtomicBool>,
@@ -125,11 +125,11 @@ impl Sweep {
     /// calibrates the workload.
     pub fn prepare(config: SweepConfig) -> Result<Sweep, InputError> {
         config.validate()?;
-        let waves = config.wave_set()?;
+        let params = config.ocean_params()?;
         let cores = config.placement()?;
         let before = (cores[0] != cores[1])
             .then(|| crosscore::round_trip(cores[0], cores[1], ROUND_TRIP_BATCHES));
-        let calibration = calibrate(&config, &waves);
+        let calibration = calibrate(&config, &params);
         for l in &calibration.levels {
             if l.micros > config.max_workload_micros() {
                 return Err(InputError(config::too_much_work(
@@ -159,7 +159,7 @@ impl Sweep {
                 balance: Vec::new(),
                 balance_failures: Vec::new(),
             },
-            waves,
+            params,
             cores,
             keys,
             stop: Arc::new(AtomicBool::new(false)),
@@ -171,7 +171,7 @@ impl Sweep {
     pub fn resume(previous: Results) -> Result<Sweep, InputError> {
         let config = previous.config.clone();
         config.validate()?;
-        let waves = config.wave_set()?;
+        let params = config.ocean_params()?;
         let cores = config.placement()?;
         let keys = cells(&config)
             .into_iter()
@@ -183,7 +183,7 @@ impl Sweep {
                 finished: None,
                 ..previous
             },
-            waves,
+            params,
             cores,
             keys,
             stop: Arc::new(AtomicBool::new(false)),
@@ -342,7 +342,7 @@ impl Sweep {
         let row = Yardstick::measure(
             &sizes,
             config.spacing,
-            &self.waves,
+            &self.params,
             self.results.calibration.workload.sample_iterations,
             5,
             Duration::from_millis(50),
@@ -387,7 +387,7 @@ impl Sweep {
         LoopSpec {
             grid: Grid::new(key.size, config.spacing).expect("validated"),
             ocean: key.ocean,
-            waves: self.waves.clone(),
+            params: self.params.clone(),
             normals: key.normals,
             kernel: key.kernel,
             mode: key.mode,

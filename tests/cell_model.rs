@@ -41,8 +41,7 @@ fn case(
         Dim::Depth => (json!(1), Some(json!(2)), json!({})),
         Dim::Consume => (json!("copy"), Some(json!("handle")), json!({})),
         Dim::Normals => (json!("neighbors"), Some(json!("analytic")), json!({})),
-        // The only model until the FFT ocean lands.
-        Dim::Ocean => (json!("sines"), None, json!({})),
+        Dim::Ocean => (json!("sines"), Some(json!("fft")), json!({})),
         Dim::Kernel => (json!("reference"), Some(json!("fast")), json!({})),
         #[allow(unreachable_patterns)]
         _ => return None,

@@ -2,7 +2,7 @@
 //! files, and the shipped configs.
 
 use oceanbench::config::SweepConfig;
-use oceanbench::ocean::WaveSet;
+use oceanbench::ocean::{FftParams, Grid, Kernel, NormalMethod, OceanKind, OceanParams, WaveSet};
 use oceanbench::results::Results;
 use std::path::Path;
 use std::process::{Command, Output};
@@ -101,7 +101,10 @@ fn bad_configs_exit_2_naming_the_field() {
             vec!["waves[0].wavelength"],
         ),
         (r#"{"sync": ["atomic", "atomic"]}"#, vec!["sync", "twice"]),
-        (r#"{"ocean": ["fft"]}"#, vec!["ocean[0]", "fft", "sines"]),
+        (
+            r#"{"ocean": ["fourier"]}"#,
+            vec!["ocean[0]", "fourier", "sines, fft"],
+        ),
         (r#"{"ocean": ["sines", "sines"]}"#, vec!["ocean", "twice"]),
         (
             r#"{"workload_kind": ["synthetic", "fog"]}"#,
@@ -156,6 +159,27 @@ fn bad_configs_exit_2_naming_the_field() {
     );
 }
 
+/// Runs `oceanbench mesh` with `args`, its CSV written in `dir`: the header and the rows.
+fn mesh_csv<T: std::str::FromStr>(dir: &Path, args: &[&str]) -> (String, Vec<Vec<T>>)
+where
+    T::Err: std::fmt::Debug,
+{
+    let csv = dir.join("mesh.csv");
+    let out = oceanbench(&[&["mesh"], args, &["--out", csv.to_str().unwrap()]].concat());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap_or_default().to_string();
+    let rows = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    (header, rows)
+}
+
 #[test]
 fn mesh_csv_has_one_row_per_vertex_and_matches_the_equations() {
     let dir = tempfile::tempdir().unwrap();
@@ -168,32 +192,21 @@ fn mesh_csv_has_one_row_per_vertex_and_matches_the_equations() {
             {"amplitude": 5.0, "wavelength": 3.0, "speed": 0.5, "direction": [0.0, 1.0], "steepness": 1.0, "enabled": false}
         ]}"#,
     );
-    let csv = dir.path().join("frame.csv");
-    let out = oceanbench(&[
-        "mesh",
-        "--size",
-        "12",
-        "--time",
-        "3.5",
-        "--spacing",
-        "0.5",
-        "--waves",
-        &waves,
-        "--out",
-        csv.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let (header, rows) = mesh_csv::<f64>(
+        dir.path(),
+        &[
+            "--size",
+            "12",
+            "--time",
+            "3.5",
+            "--spacing",
+            "0.5",
+            "--waves",
+            &waves,
+        ],
     );
     let set = WaveSet::load(Path::new(&waves)).unwrap();
-    let text = std::fs::read_to_string(&csv).unwrap();
-    let mut lines = text.lines();
-    assert_eq!(lines.next(), Some("i,j,x,y,z,nx,ny,nz"));
-    let rows: Vec<Vec<f64>> = lines
-        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
+    assert_eq!(header, "i,j,x,y,z,nx,ny,nz");
     assert_eq!(rows.len(), 144);
     for r in &rows {
         let (i, j, x, y) = (r[0], r[1], r[2], r[3]);
@@ -204,6 +217,163 @@ fn mesh_csv_has_one_row_per_vertex_and_matches_the_equations() {
             assert!((r[5 + c] - n[c]).abs() < 1e-4, "{r:?} vs {n:?}");
         }
     }
+}
+
+#[test]
+fn fft_bad_input_exits_2_with_one_line_and_keeps_the_output_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("kept.csv");
+    std::fs::write(&out, "kept").unwrap();
+    let out = out.to_str().unwrap();
+    let mesh = |size: &'static str| {
+        [
+            "mesh", "--ocean", "fft", "--time", "1", "--size", size, "--out", out,
+        ]
+    };
+    for (size, nearest) in [
+        ("97", "96, 100"),
+        ("33", "32, 36"),
+        ("98", "96, 100"),
+        ("0", "16"),
+        ("8", "16"),
+        ("5000", "4096"),
+    ] {
+        assert_input_error(&mesh(size), &["size", "2, 3 and 5", nearest]);
+    }
+    assert_input_error(
+        &[&mesh("64")[..], &["--normals", "lookup"]].concat(),
+        &["normals", "analytic", "neighbors"],
+    );
+    assert_input_error(
+        &[&mesh("64")[..], &["--kernel", "fast"]].concat(),
+        &["kernel", "reference"],
+    );
+    let params = |name: &str, text: &str| write(dir.path(), name, text);
+    for (text, field) in [
+        (r#"{"wind_speed": -1}"#, "wind_speed"),
+        (r#"{"amplitude": -1e-8}"#, "amplitude"),
+        (r#"{"patch_metres": -100}"#, "patch_metres"),
+        (r#"{"patch_metres": 0}"#, "patch_metres"),
+        (r#"{"choppiness": -0.5}"#, "choppiness"),
+        (r#"{"depth_metres": 0}"#, "depth_metres"),
+        (r#"{"wind_sped": 10}"#, "wind_speed"),
+        (r#"{"seed": "x"}"#, "seed"),
+        ("[1]", "fft_params"),
+    ] {
+        let file = params("p.json", text);
+        assert_input_error(
+            &[&mesh("64")[..], &["--fft-params", &file]].concat(),
+            &[field],
+        );
+        assert_input_error(
+            &[
+                "run",
+                "--ocean",
+                "fft",
+                "--size",
+                "64",
+                "--fft-params",
+                &file,
+            ],
+            &[field],
+        );
+    }
+    assert_input_error(
+        &[&mesh("64")[..], &["--fft-params", "/nonexistent/p.json"]].concat(),
+        &["/nonexistent/p.json"],
+    );
+    assert_eq!(std::fs::read_to_string(out).unwrap(), "kept");
+
+    assert_input_error(
+        &["run", "--ocean", "fft", "--size", "97"],
+        &["size", "96, 100"],
+    );
+    assert_input_error(
+        &[
+            "run",
+            "--ocean",
+            "fft",
+            "--normals",
+            "lookup",
+            "--size",
+            "64",
+        ],
+        &["normals", "lookup"],
+    );
+    assert_input_error(
+        &[
+            "run",
+            "--ocean",
+            "fft",
+            "--normals",
+            "neighbors",
+            "--helpers",
+            "2",
+            "--size",
+            "64",
+        ],
+        &["helpers", "analytic", "neighbors"],
+    );
+    let config = params(
+        "c.json",
+        r#"{"ocean": ["fft"], "sizes": [64], "fft_params": "missing.json"}"#,
+    );
+    assert_input_error(&["sweep", &config], &["fft_params", "missing.json"]);
+}
+
+#[test]
+fn fft_mesh_csv_has_the_fold_column_and_the_model_s_surface() {
+    let dir = tempfile::tempdir().unwrap();
+    let params = write(
+        dir.path(),
+        "p.json",
+        r#"{"patch_metres": 200, "wind_speed": 15, "amplitude": 1e-6, "choppiness": 1.2}"#,
+    );
+    let (header, rows) = mesh_csv::<f32>(
+        dir.path(),
+        &[
+            "--ocean",
+            "fft",
+            "--size",
+            "16",
+            "--time",
+            "2.5",
+            "--fft-params",
+            &params,
+        ],
+    );
+    assert_eq!(header, "i,j,x,y,z,nx,ny,nz,fold");
+    assert_eq!(rows.len(), 256);
+
+    let fft = FftParams::load(Path::new(&params)).unwrap();
+    let grid = Grid::new(16, 1.0).unwrap();
+    let model = OceanKind::Fft.model();
+    let mut mesh = model.mesh(grid);
+    model
+        .prepare(
+            grid,
+            &OceanParams {
+                fft,
+                ..OceanParams::default()
+            },
+            NormalMethod::Analytic,
+            Kernel::Reference,
+        )
+        .unwrap()
+        .step(2.5, &mut mesh);
+    for (v, r) in rows.iter().enumerate() {
+        assert_eq!((r[0] as usize, r[1] as usize), (v / 16, v % 16));
+        let want = [
+            mesh.x[v], mesh.y[v], mesh.z[v], mesh.nx[v], mesh.ny[v], mesh.nz[v],
+        ];
+        assert_eq!(&r[2..8], &want[..], "vertex {v}");
+        assert_eq!(r[8], mesh.fold[v], "vertex {v}");
+    }
+    let spacing = 200.0 / 16.0;
+    assert!(
+        rows.iter().any(|r| (r[2] - r[1] * spacing).abs() > 0.01),
+        "x is displaced"
+    );
 }
 
 #[test]
@@ -267,6 +437,8 @@ fn shipped_configs_are_valid_and_figure_5_1_is_the_default() {
         "sync-primitives.json",
         "ci.json",
         "figure-5-1-fast.json",
+        "figure-5-1-fft.json",
+        "fft-scaling.json",
     ] {
         SweepConfig::load(&root.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
     }

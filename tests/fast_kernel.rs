@@ -289,7 +289,12 @@ fn ocean_fast_kernel_matches_reference_for_every_normal_method() {
         {
             let mut ocean = OceanKind::Sines
                 .model()
-                .prepare(grid, &WaveSet::default(), normals, kernel)
+                .prepare(
+                    grid,
+                    &oceanbench::ocean::OceanParams::default(),
+                    normals,
+                    kernel,
+                )
                 .unwrap();
             ocean.step(3.5, mesh);
         }

@@ -4,7 +4,7 @@
 use oceanbench::affinity;
 use oceanbench::camera::Camera;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
-use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, WaveSet};
+use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, OceanParams};
 use oceanbench::sync::{Policy, SyncMethod};
 use oceanbench::workload::WorkloadKind;
 use std::time::Duration;
@@ -16,7 +16,7 @@ fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMetho
     LoopSpec {
         grid: Grid::new(9, 0.75).unwrap(),
         ocean: OceanKind::Sines,
-        waves: WaveSet::default(),
+        params: OceanParams::default(),
         normals,
         kernel: Kernel::Reference,
         mode,
@@ -311,6 +311,74 @@ fn split_meshes_are_bit_identical_to_serial_each_frame_once_in_order() {
     }
 }
 
+/// The FFT ocean's helpers split its row pass and its column pass by rows and meet at a barrier
+/// between them: 1, 2 and 3 helpers (3 does not divide 16 rows evenly), at depth 1 and 2, give
+/// the serial meshes bit for bit, each frame once in order.
+#[test]
+fn fft_meshes_are_bit_identical_in_every_mode_and_helper_count() {
+    let fft = |mode, sync| {
+        let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
+        s.ocean = OceanKind::Fft;
+        s.grid = Grid::new(16, 1.0).unwrap();
+        s
+    };
+    let serial = frames(&fft(Mode::Serial, SyncMethod::Atomic));
+    assert!(serial.windows(2).all(|w| w[0].1 != w[1].1), "the sea moves");
+    for mode in modes() {
+        for sync in [
+            SyncMethod::Atomic,
+            SyncMethod::Condvar,
+            SyncMethod::Crossbeam,
+        ] {
+            for (helpers, depth) in [(1, 1), (2, 1), (3, 1), (2, 2)] {
+                let mut s = fft(mode, sync);
+                s.helper_cores = with_helpers(mode, helpers);
+                s.depth = depth;
+                let got = frames(&s);
+                let indices: Vec<u64> = got.iter().map(|(k, _)| *k).collect();
+                assert_eq!(indices, (0..FRAMES).collect::<Vec<_>>());
+                for ((k, mesh), (_, want)) in got.iter().zip(&serial) {
+                    assert!(
+                        mesh == want,
+                        "{mode:?} {sync:?} x{helpers} depth {depth}: frame {k} differs"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// A stop raised while the FFT ocean's helpers run their phases ends the loop as interrupted,
+/// never as a helper stuck at the phase barrier (its shutdown breaks the barrier).
+#[test]
+fn a_stop_ends_fft_helpers_at_their_barrier() {
+    for mode in modes() {
+        for helpers in [2, 3] {
+            let mut s = spec(
+                mode,
+                SyncMethod::Atomic,
+                Threading::Pool,
+                NormalMethod::Analytic,
+            );
+            s.ocean = OceanKind::Fft;
+            s.grid = Grid::new(32, 1.0).unwrap();
+            s.helper_cores = with_helpers(mode, helpers);
+            let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+            s.stop = Some(stop.clone());
+            let got = frame_loop::run(&s, &Budget::exact(1000), |k, _| {
+                if k == 20 {
+                    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+                }
+            });
+            assert!(
+                matches!(got, Err(frame_loop::LoopError::Interrupted)),
+                "{mode:?} x{helpers}: {:?}",
+                got.map(|_| ())
+            );
+        }
+    }
+}
+
 #[test]
 fn every_helper_is_pinned_to_its_core() {
     let cores = affinity::allowed_cores();
@@ -469,7 +537,7 @@ fn latest_meshes_are_the_serial_mesh_of_their_index_and_indices_never_decrease()
                 );
                 let model = s.ocean.model();
                 let mut ocean = model
-                    .prepare(s.grid, &s.waves, s.normals, s.kernel)
+                    .prepare(s.grid, &s.params, s.normals, s.kernel)
                     .unwrap();
                 let mut want = model.mesh(s.grid);
                 for (k, mesh) in &seen {

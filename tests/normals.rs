@@ -1,12 +1,12 @@
 //! The three normal methods against each other and against the equations.
 
-use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, WaveSet};
+use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, OceanParams, WaveSet};
 
 fn step(n: usize, spacing: f32, t: f32, normals: NormalMethod) -> Mesh {
     let grid = Grid::new(n, spacing).unwrap();
     let mut ocean = OceanKind::Sines
         .model()
-        .prepare(grid, &WaveSet::default(), normals, Kernel::Reference)
+        .prepare(grid, &OceanParams::default(), normals, Kernel::Reference)
         .unwrap();
     let mut mesh = Mesh::new(grid);
     ocean.step(t, &mut mesh);
@@ -94,7 +94,7 @@ fn lookup_refuses_grids_that_would_take_too_long() {
         .model()
         .prepare(
             grid,
-            &WaveSet::default(),
+            &OceanParams::default(),
             NormalMethod::Lookup,
             Kernel::Reference,
         )

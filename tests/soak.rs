@@ -11,7 +11,7 @@
 use oceanbench::affinity;
 use oceanbench::camera::Camera;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
-use oceanbench::ocean::{Grid, Kernel, NormalMethod, OceanKind, WaveSet};
+use oceanbench::ocean::{Grid, Kernel, NormalMethod, OceanKind, OceanParams};
 use oceanbench::sync::{Policy, SyncMethod};
 use oceanbench::workload::WorkloadKind;
 use std::time::Duration;
@@ -37,7 +37,7 @@ fn a_million_frames_per_method_none_lost() {
                 let spec = LoopSpec {
                     grid: Grid::new(2, 1.0).unwrap(),
                     ocean: OceanKind::Sines,
-                    waves: WaveSet::default(),
+                    params: OceanParams::default(),
                     normals: NormalMethod::Analytic,
                     kernel: Kernel::Reference,
                     mode,

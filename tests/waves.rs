@@ -1,6 +1,6 @@
 //! The wave equations at hand-computed points, and validation of waves files.
 
-use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, Wave, WaveSet};
+use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, OceanParams, Wave, WaveSet};
 
 fn one_wave(steepness: f32) -> WaveSet {
     WaveSet::new(vec![Wave {
@@ -18,7 +18,15 @@ fn step(waves: &WaveSet, n: usize, t: f32, normals: NormalMethod) -> Mesh {
     let grid = Grid::new(n, 1.0).unwrap();
     let mut ocean = OceanKind::Sines
         .model()
-        .prepare(grid, waves, normals, Kernel::Reference)
+        .prepare(
+            grid,
+            &OceanParams {
+                waves: waves.clone(),
+                ..OceanParams::default()
+            },
+            normals,
+            Kernel::Reference,
+        )
         .unwrap();
     let mut mesh = Mesh::new(grid);
     ocean.step(t, &mut mesh);

@@ -361,7 +361,7 @@ impl Axes {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ocean::{sines::Sines, Grid, Stepper, WaveSet};
+    use crate::ocean::{sines::Sines, Grid, OceanParams, Stepper};
 
     /// A model offering the reference kernel with analytic normals only.
     struct Narrow;
@@ -385,11 +385,11 @@ mod tests {
         fn prepare(
             &self,
             grid: Grid,
-            waves: &WaveSet,
+            params: &OceanParams,
             normals: NormalMethod,
             kernel: Kernel,
         ) -> Result<Box<dyn Stepper>, InputError> {
-            Sines.prepare(grid, waves, normals, kernel)
+            Sines.prepare(grid, params, normals, kernel)
         }
     }
 

@@ -3,11 +3,12 @@
 use super::CliError;
 use crate::cli::MeshArgs;
 use crate::config::InputError;
-use crate::ocean::{Grid, WaveSet};
+use crate::ocean::{FftParams, Grid, OceanParams, WaveSet};
 use crate::report::csv;
 use serde::Serialize;
 
-/// One vertex of the CSV: its grid position, coordinates and normal.
+/// One vertex of the CSV: its grid position, coordinates, normal and, for a model that fills
+/// it, the fold value J.
 #[derive(Serialize)]
 struct VertexRow {
     i: usize,
@@ -24,6 +25,17 @@ struct VertexRow {
     ny: f32,
     #[serde(serialize_with = "shortest")]
     nz: f32,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    fold: Option<Shortest>,
+}
+
+/// An f32 written in its own shortest digits.
+struct Shortest(f32);
+
+impl Serialize for Shortest {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        shortest(&self.0, s)
+    }
 }
 
 /// An f32 in its own shortest digits (`0.3`): the CSV writer goes through f64, which would
@@ -33,6 +45,9 @@ fn shortest<S: serde::Serializer>(v: &f32, s: S) -> Result<S::Ok, S::Error> {
 }
 
 pub(super) fn mesh(args: MeshArgs) -> Result<(), CliError> {
+    let model = args.ocean.model();
+    // The model's own size rule first: its message names the sizes it takes.
+    model.check(args.size, args.normals)?;
     let grid = Grid::new(args.size, args.spacing)?;
     if !args.time.is_finite() {
         return Err(InputError(format!(
@@ -45,8 +60,12 @@ pub(super) fn mesh(args: MeshArgs) -> Result<(), CliError> {
         Some(path) => WaveSet::load(path).map_err(|e| InputError(e.to_string()))?,
         None => WaveSet::default(),
     };
-    let model = args.ocean.model();
-    let mut ocean = model.prepare(grid, &waves, args.normals, args.kernel)?;
+    let fft = match &args.fft_params {
+        Some(path) => FftParams::load(path)?,
+        None => FftParams::default(),
+    };
+    let params = OceanParams { waves, fft };
+    let mut ocean = model.prepare(grid, &params, args.normals, args.kernel)?;
     let mut mesh = model.mesh(grid);
     ocean.step(args.time, &mut mesh);
     let file = std::fs::File::create(&args.out)
@@ -63,6 +82,7 @@ pub(super) fn mesh(args: MeshArgs) -> Result<(), CliError> {
             nx: mesh.nx[v],
             ny: mesh.ny[v],
             nz: mesh.nz[v],
+            fold: mesh.fold.get(v).copied().map(Shortest),
         }
     });
     csv::write(std::io::BufWriter::new(file), rows)

@@ -63,6 +63,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
         min_seconds: args.seconds,
         max_seconds: args.max_seconds.unwrap_or((args.seconds * 10.0).max(10.0)),
         waves_file: args.waves,
+        fft_params: args.fft_params,
         timeout_seconds: args.timeout,
         cores: args.cores,
         ..SweepConfig::default()

@@ -9,6 +9,7 @@
 //! shared mesh and the two sides of a threaded frame that touch it: every `unsafe` access to
 //! the slot is there.
 
+mod barrier;
 mod consume;
 mod frames;
 mod latest;
@@ -23,7 +24,7 @@ use crate::affinity::{self, Pin};
 use crate::camera::Camera;
 use crate::input::InputError;
 use crate::measure::Trial;
-use crate::ocean::{Grid, Kernel, Mesh, Model, NormalMethod, OceanKind, WaveSet};
+use crate::ocean::{Grid, Kernel, Mesh, Model, NormalMethod, OceanKind, OceanParams};
 use crate::sched::{self, ThreadCounters, ThreadNoise, TrialNoise};
 use crate::sync::{Policy, SyncMethod};
 use crate::workload::{Work, WorkSpec, WorkloadKind};
@@ -70,8 +71,8 @@ pub struct LoopSpec {
     pub grid: Grid,
     /// Which ocean model the helper computes.
     pub ocean: OceanKind,
-    /// The waves summed.
-    pub waves: WaveSet,
+    /// The models' parameters (the sines' waves, the FFT ocean's spectrum).
+    pub params: OceanParams,
     /// How normals are computed.
     pub normals: NormalMethod,
     /// Which kernel fills the heights.
@@ -490,7 +491,7 @@ where
     let ocean = spec
         .ocean
         .model()
-        .prepare(spec.grid, &spec.waves, spec.normals, spec.kernel)?;
+        .prepare(spec.grid, &spec.params, spec.normals, spec.kernel)?;
     std::thread::scope(|s| {
         std::thread::Builder::new()
             .name("ocean-main".into())

@@ -2,6 +2,7 @@
 //! the persistent-helper machinery the `latest` loop shares with it (starting pinned helpers,
 //! stopping them without ever hanging on a stalled one, and driving the main thread's frames).
 
+use super::barrier::Broken;
 use super::frames::FrameCounter;
 use super::slots::{consume, produce, timed, Shared};
 use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
@@ -144,16 +145,34 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     work: &mut dyn Work,
     mut observe: F,
 ) -> Result<LoopRun, LoopError> {
-    // Each helper gets its own stepper: the fast kernel keeps per-band tables in it.
+    // Each helper gets its own stepper (the fast kernel keeps per-band tables in it), split
+    // from the cell's so that a model whose phases read each other's bands shares that state.
     let start = || {
-        Helpers::start(spec, Shared::new(spec), |h, shared| {
-            let (shared, spec, mut ocean) = (Arc::clone(shared), spec.clone(), ocean.clone());
+        let shared = Shared::new(spec);
+        let mut steppers = match shared.parts.len() {
+            1 => vec![ocean],
+            _ => ocean.split(&shared.bands()),
+        }
+        .into_iter();
+        Helpers::start(spec, shared, |h, shared| {
+            let (shared, spec) = (Arc::clone(shared), spec.clone());
+            let mut ocean = steppers.next().expect("one stepper per helper");
             move || {
                 let handoff = &*shared.parts[h].handoff;
                 for k in 0.. {
                     let (free, waited) = timed(|| handoff.wait_free(Instant::now() + spec.timeout));
                     match free {
-                        Ok(Free::Slot) => produce(&spec, k, &mut *ocean, &shared, h, waited),
+                        Ok(Free::Slot) => {
+                            match produce(&spec, k, &mut *ocean, &shared, h, waited) {
+                                Ok(()) => {}
+                                Err(Broken::Shutdown) => break,
+                                Err(Broken::Timeout) => {
+                                    return Err(
+                                        spec.stalled("a helper (waiting at the phase barrier)")
+                                    )
+                                }
+                            }
+                        }
                         Ok(Free::Shutdown) => break,
                         Err(_) => return Err(spec.stalled("the helper (waiting for a free slot)")),
                     }

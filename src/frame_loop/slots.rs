@@ -7,6 +7,7 @@
 //! it), and the main thread reads a slot only after every helper published its frame there and
 //! before it releases it. Each pair of sides is a release/acquire edge of the helper's ring.
 
+use super::barrier::{Broken, PhaseBarrier};
 use super::consume::{self, Consume};
 use super::frames::FrameCounter;
 use super::{LoopError, LoopSpec};
@@ -125,6 +126,8 @@ pub(super) struct Shared {
     slots: Vec<MeshSlot>,
     /// One per helper.
     pub parts: Vec<Part>,
+    /// Where the helpers meet between the phases of a banded step.
+    barrier: PhaseBarrier,
 }
 
 // SAFETY: the meshes and stamps are only touched under the ring protocol described at the top
@@ -157,14 +160,24 @@ impl Shared {
                 stamps: (0..depth).map(|_| Slot::new(blank)).collect(),
             })
             .collect();
-        Shared { slots, parts }
+        Shared {
+            slots,
+            parts,
+            barrier: PhaseBarrier::new(h),
+        }
     }
 
-    /// Stops every helper: any waiting one returns `Shutdown`.
+    /// Stops every helper: any waiting one, at its ring or at the phase barrier, returns.
     pub fn shutdown(&self) {
         for part in &self.parts {
             part.handoff.shutdown();
         }
+        self.barrier.cancel();
+    }
+
+    /// The rows of each helper's band, helper k at index k.
+    pub fn bands(&self) -> Vec<Range<usize>> {
+        self.parts.iter().map(|p| p.rows.clone()).collect()
     }
 
     fn slot_of(&self, frame: u64) -> usize {
@@ -190,7 +203,9 @@ impl Shared {
 }
 
 /// Helper `h`'s side of frame k: compute its rows of the frame into its slot and publish them.
-/// The caller's ring has just said the slot is free, after a wait of `waited`.
+/// The caller's ring has just said the slot is free, after a wait of `waited`. With several
+/// helpers and a stepper of several phases, every helper meets at the barrier before each
+/// phase; a shutdown or a stalled helper there ends the frame unpublished.
 pub(super) fn produce(
     spec: &LoopSpec,
     k: u64,
@@ -198,7 +213,7 @@ pub(super) fn produce(
     shared: &Shared,
     h: usize,
     waited: Waited,
-) {
+) -> Result<(), Broken> {
     spec.stall_at(k);
     let part = &shared.parts[h];
     let s = shared.slot_of(k);
@@ -207,9 +222,17 @@ pub(super) fn produce(
     if shared.parts.len() == 1 {
         // SAFETY: the only helper owns the free slot, so nobody else touches its mesh.
         ocean.step(t, unsafe { &mut *shared.slots[s].mesh.get() });
-    } else {
+    } else if ocean.phases() == 1 {
         // SAFETY: helper h owns its band of the free slot; other helpers only touch theirs.
         ocean.step_rows(t, unsafe { shared.band(s, h) });
+    } else {
+        for phase in 0..ocean.phases() {
+            // Before phase 0 too: no helper starts frame k while another still reads frame
+            // k − 1's shared state in its last phase.
+            shared.barrier.wait(Instant::now() + spec.timeout)?;
+            // SAFETY: as above.
+            ocean.step_phase(phase, t, unsafe { shared.band(s, h) });
+        }
     }
     let published = Instant::now();
     // SAFETY: the stamp of a free slot belongs to helper h until it publishes.
@@ -223,6 +246,7 @@ pub(super) fn produce(
         };
     }
     part.handoff.publish();
+    Ok(())
 }
 
 /// The main thread's side of threaded frame k: workload, wait for every helper's frame k,

@@ -54,7 +54,8 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
                             .wait_free(Instant::now() + spec.timeout)
                     });
                     if free == Ok(Free::Slot) {
-                        produce(&spec, k, &mut *ocean, &shared, 0, waited);
+                        produce(&spec, k, &mut *ocean, &shared, 0, waited)
+                            .expect("a lone helper meets no barrier");
                     }
                     (ocean, pin, watch.stop(String::new()))
                 })

@@ -4,8 +4,19 @@
 
 use super::mesh::{Grid, Mesh, MeshRows};
 use super::normals::NormalMethod;
+use super::phillips::FftParams;
 use super::waves::WaveSet;
 use crate::input::InputError;
+use std::ops::Range;
+
+/// The run's inputs every model may read: each model takes its own.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OceanParams {
+    /// The sines' waves.
+    pub waves: WaveSet,
+    /// The FFT ocean's spectrum and choppiness.
+    pub fft: FftParams,
+}
 
 crate::named! {
     /// Which implementation of a model fills heights (and analytic normals).
@@ -15,6 +26,19 @@ crate::named! {
         /// Separable phase tables, half-angle powers and run-time selected vector code; the same
         /// surface as `Reference`.
         Fast,
+    }
+}
+
+/// Refuses a split among helpers for normals other than `analytic`: face normals at a band's
+/// edge need the neighbouring band's heights, which another helper is still computing.
+pub fn only_analytic_splits(normals: NormalMethod) -> Result<(), InputError> {
+    match normals {
+        NormalMethod::Analytic => Ok(()),
+        other => Err(InputError(format!(
+            "helpers: more than one helper needs normals `analytic`; `{}` normals at a \
+             band's edge need the neighbouring band's heights (not supported yet)",
+            other.name()
+        ))),
     }
 }
 
@@ -46,7 +70,7 @@ pub trait Model: Sync {
     fn prepare(
         &self,
         grid: Grid,
-        waves: &WaveSet,
+        params: &OceanParams,
         normals: NormalMethod,
         kernel: Kernel,
     ) -> Result<Box<dyn Stepper>, InputError>;
@@ -64,6 +88,25 @@ pub trait Stepper: Send + std::fmt::Debug {
 
     /// A copy of this state for another helper.
     fn boxed_clone(&self) -> Box<dyn Stepper>;
+
+    /// Phases of a banded step: helpers filling bands of one mesh all finish a phase (and the
+    /// frame before) before any starts the next. 1: every band is computed alone.
+    fn phases(&self) -> usize {
+        1
+    }
+
+    /// Phase `phase` of this helper's band, bit-identical in the end to the band's rows of
+    /// [`Stepper::step`]; with one phase, [`Stepper::step_rows`].
+    fn step_phase(&mut self, phase: usize, t: f32, rows: MeshRows<'_>) {
+        debug_assert_eq!(phase, 0, "one phase");
+        self.step_rows(t, rows);
+    }
+
+    /// The steppers of helpers that fill `bands` of each mesh, helper h `bands[h]`: clones by
+    /// default; a model whose phases read each other's bands shares that state among them.
+    fn split(&self, bands: &[Range<usize>]) -> Vec<Box<dyn Stepper>> {
+        bands.iter().map(|_| self.boxed_clone()).collect()
+    }
 }
 
 impl Clone for Box<dyn Stepper> {

@@ -5,7 +5,7 @@ pub mod fast;
 pub mod reference;
 
 use super::mesh::{Grid, Mesh, MeshRows};
-use super::model::{Kernel, Model, Stepper};
+use super::model::{Kernel, Model, OceanParams, Stepper};
 use super::normals::{self, FaceNormals, NormalMethod};
 use super::waves::WaveSet;
 use crate::input::InputError;
@@ -30,14 +30,7 @@ impl Model for Sines {
     /// Only analytic normals are a function of the vertex's own x, y and t; face normals need
     /// the heights of the rows next to a band.
     fn splits_into_rows(&self, normals: NormalMethod) -> Result<(), InputError> {
-        match normals {
-            NormalMethod::Analytic => Ok(()),
-            other => Err(InputError(format!(
-                "helpers: more than one helper needs normals `analytic`; `{}` normals at a \
-                 band's edge need the neighbouring band's heights (not supported yet)",
-                other.name()
-            ))),
-        }
+        super::model::only_analytic_splits(normals)
     }
 
     /// Refuses `lookup` on grids where one frame would take over a second.
@@ -61,14 +54,14 @@ impl Model for Sines {
     fn prepare(
         &self,
         grid: Grid,
-        waves: &WaveSet,
+        params: &OceanParams,
         normals: NormalMethod,
         kernel: Kernel,
     ) -> Result<Box<dyn Stepper>, InputError> {
         self.check(grid.n, normals)?;
         Ok(Box::new(SinesState::new(
             grid,
-            waves.clone(),
+            params.waves.clone(),
             normals,
             kernel,
         )))
@@ -155,7 +148,12 @@ mod tests {
         for kernel in [Kernel::Reference, Kernel::Fast] {
             let mut mesh = Sines.mesh(grid);
             let mut state = Sines
-                .prepare(grid, &WaveSet::default(), NormalMethod::Analytic, kernel)
+                .prepare(
+                    grid,
+                    &OceanParams::default(),
+                    NormalMethod::Analytic,
+                    kernel,
+                )
                 .unwrap();
             state.step(2.0, &mut mesh);
             let rest = Mesh::new(grid);

@@ -1,0 +1,310 @@
+//! The FFT path against the direct f64 sum of the same spectrum, and the physics the surface
+//! must show: real transforms, seamless tiles, Parseval's variance, a mode's phase speed, no
+//! fold without choppiness.
+
+use super::*;
+use crate::ocean::phillips::FftParams;
+
+/// Steps a mesh of size `n` at time `t`.
+fn surface(params: &FftParams, n: usize, t: f32, normals: NormalMethod) -> (FftState, Mesh) {
+    let spectrum = Spectrum::new(params, n);
+    let mut state = FftState::new(&spectrum, params.patch_metres, params.choppiness, normals);
+    let mut mesh = FftOcean.mesh(Grid::new(n, state.spacing()).unwrap());
+    state.step(t, &mut mesh);
+    (state, mesh)
+}
+
+/// The eight unpacked fields of vertex e, in the order of [`Spectrum::fields_f64`].
+fn fields(state: &FftState, e: usize) -> [f64; 8] {
+    let [hd, d, slope, dd] = std::array::from_fn(|f| state.fields[f][e]);
+    let dxy = hd.im / state.terms.dxy_scale;
+    [hd.re, d.re, d.im, slope.re, slope.im, dd.re, dd.im, dxy].map(f64::from)
+}
+
+/// The mean of the heights' squares.
+fn mean_square(z: &[f32]) -> f64 {
+    z.iter().map(|&z| (z as f64).powi(2)).sum::<f64>() / z.len() as f64
+}
+
+/// The largest error of each field against the oracle, over the field's largest value.
+fn relative_errors(params: &FftParams, n: usize, t: f32) -> [f64; 8] {
+    let (state, _) = surface(params, n, t, NormalMethod::Analytic);
+    let spectrum = Spectrum::new(params, n);
+    let dx = params.patch_metres / n as f64;
+    let mut err = [0.0f64; 8];
+    let mut scale = [0.0f64; 8];
+    for i in 0..n {
+        for j in 0..n {
+            let want = spectrum.fields_f64(j as f64 * dx, i as f64 * dx, t as f64);
+            let got = fields(&state, i * n + j);
+            for f in 0..8 {
+                err[f] = err[f].max((got[f] - want[f]).abs());
+                scale[f] = scale[f].max(want[f].abs());
+            }
+        }
+    }
+    std::array::from_fn(|f| err[f] / scale[f])
+}
+
+/// f32 transforms of f32 coefficients: each coefficient is rounded once (ε = 6e-8), the
+/// phase's sine and cosine add about ε, and an FFT's error grows as ε·log₂N times the
+/// field's norm; 1e-6 of the field's largest value is 17 ε, four times the largest error
+/// measured at N = 16, 32 and 40 (2.6e-7). A transform that mixed up two fields, a sign or a
+/// factor of k would be off by the field's own size.
+const ORACLE_TOLERANCE: f64 = 1e-6;
+
+#[test]
+fn the_transforms_agree_with_the_direct_sum() {
+    for n in [16, 32, 40] {
+        for t in [0.0, 7.3, 1000.0] {
+            let errors = relative_errors(&FftParams::default(), n, t);
+            for (f, e) in errors.iter().enumerate() {
+                assert!(
+                    *e < ORACLE_TOLERANCE,
+                    "n={n} t={t} field {f}: {e:e} of its largest value ({errors:?})"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_mesh_is_built_from_the_fields() {
+    let params = FftParams {
+        choppiness: 1.5,
+        ..FftParams::default()
+    };
+    let (state, mesh) = surface(&params, 32, 4.0, NormalMethod::Analytic);
+    let lambda = 1.5;
+    let spectrum = Spectrum::new(&params, 32);
+    let dx = params.patch_metres / 32.0;
+    let mut max_fold_err = 0.0f64;
+    for (e, (&x, &z)) in mesh.x.iter().zip(&mesh.z).enumerate() {
+        let (i, j) = (e / 32, e % 32);
+        let f = fields(&state, e);
+        assert_eq!(z as f64, f[0]);
+        assert!((x as f64 - (j as f64 * dx + lambda * f[1])).abs() < 1e-3);
+        assert!((mesh.y[e] as f64 - (i as f64 * dx + lambda * f[2])).abs() < 1e-3);
+        let w = spectrum.fields_f64(j as f64 * dx, i as f64 * dx, 4.0);
+        let (a, d, b) = (1.0 + lambda * w[5], 1.0 + lambda * w[6], lambda * w[7]);
+        let fold = a * d - b * b;
+        max_fold_err = max_fold_err.max((mesh.fold[e] as f64 - fold).abs());
+        // The fold direction is the unit eigenvector of the smaller eigenvalue.
+        let small = (a + d) / 2.0 - (((a - d) / 2.0).powi(2) + b * b).sqrt();
+        let (vx, vy) = (mesh.fold_dx[e] as f64, mesh.fold_dy[e] as f64);
+        assert!((vx.hypot(vy) - 1.0).abs() < 1e-6, "unit direction");
+        let (mx, my) = (a * vx + b * vy, b * vx + d * vy);
+        assert!(
+            (mx - small * vx).hypot(my - small * vy) < 1e-4,
+            "vertex {e}: not the smaller eigenvector"
+        );
+        // The analytic normal is the cross product of the displaced surface's tangents.
+        let n = [b * w[4] - w[3] * d, w[3] * b - a * w[4], fold];
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        let got = [mesh.nx[e], mesh.ny[e], mesh.nz[e]].map(f64::from);
+        for c in 0..3 {
+            assert!((got[c] - n[c] / len).abs() < 1e-4, "vertex {e} normal");
+        }
+    }
+    assert!(max_fold_err < 1e-4, "fold error {max_fold_err}");
+    assert!(
+        mesh.fold.iter().any(|&j| (j - 1.0).abs() > 0.01),
+        "λ = 1.5 moves the surface"
+    );
+}
+
+#[test]
+fn one_field_alone_transforms_to_a_real_field() {
+    let n = 64;
+    let spectrum = Spectrum::new(&FftParams::default(), n);
+    let terms = Terms::new(&spectrum);
+    let mut height: Vec<Complex<f32>> = (0..n * n).map(|e| terms.coefficient(e, 5.0)).collect();
+    Inverse2d::new(n).process(&mut height);
+    let re = height.iter().map(|c| c.re.abs()).fold(0.0, f32::max);
+    let im = height.iter().map(|c| c.im.abs()).fold(0.0, f32::max);
+    assert!(re > 0.1, "a sea, not a flat field ({re})");
+    assert!(
+        im < 1e-6 * re,
+        "imaginary parts {im} against heights up to {re}"
+    );
+}
+
+#[test]
+fn the_surface_tiles_without_a_seam() {
+    let n = 64;
+    let (_, mesh) = surface(&FftParams::default(), n, 3.0, NormalMethod::Analytic);
+    let z = |i: usize, j: usize| mesh.z[i * n + j];
+    let mut inner = 0.0f32;
+    let mut seam = 0.0f32;
+    for i in 0..n {
+        for j in 0..n - 1 {
+            inner = inner.max((z(i, j + 1) - z(i, j)).abs());
+            inner = inner.max((z(j + 1, i) - z(j, i)).abs());
+        }
+        seam = seam.max((z(i, 0) - z(i, n - 1)).abs());
+        seam = seam.max((z(0, i) - z(n - 1, i)).abs());
+    }
+    assert!(
+        seam <= inner,
+        "seam step {seam} > largest step inside {inner}"
+    );
+    // The direct sum is periodic by construction: the vertex one patch away is vertex 0.
+    let spectrum = Spectrum::new(&FftParams::default(), n);
+    let l = FftParams::default().patch_metres;
+    let beyond = spectrum.fields_f64(l, l, 3.0)[0];
+    assert!(
+        (beyond - z(0, 0) as f64).abs() < 1e-4,
+        "{beyond} vs {}",
+        z(0, 0)
+    );
+}
+
+#[test]
+fn no_choppiness_no_fold_and_no_displacement() {
+    let params = FftParams {
+        choppiness: 0.0,
+        ..FftParams::default()
+    };
+    let (state, mesh) = surface(&params, 32, 2.0, NormalMethod::Analytic);
+    assert!(mesh.fold.iter().all(|&j| j == 1.0));
+    let rest = Mesh::new(Grid::new(32, state.spacing()).unwrap());
+    assert_eq!((&mesh.x, &mesh.y), (&rest.x, &rest.y));
+}
+
+#[test]
+fn the_heights_variance_is_the_spectrum_sum() {
+    for (n, t) in [(64, 0.0), (256, 11.0)] {
+        let params = FftParams::default();
+        let (_, mesh) = surface(&params, n, t, NormalMethod::Analytic);
+        let mean_square = mean_square(&mesh.z);
+        let power = Spectrum::new(&params, n).power(t as f64);
+        assert!(
+            (mean_square / power - 1.0).abs() < 1e-4,
+            "n={n}: mean of h² {mean_square}, Σ|h̃|² {power}"
+        );
+    }
+}
+
+#[test]
+fn a_single_mode_moves_at_its_phase_speed() {
+    let params = FftParams {
+        choppiness: 0.0,
+        ..FftParams::default()
+    };
+    let n = 32;
+    let mut h0 = vec![Complex::default(); n * n];
+    let (a, b) = (0, 2);
+    h0[a * n + b] = Complex::new(1.0, 0.0);
+    let spectrum = Spectrum::with_amplitudes(&params, n, h0);
+    let (kx, _) = spectrum.wave_vector(a, b);
+    let speed = spectrum.omega(a, b) / kx;
+    let dx = params.patch_metres / n as f64;
+    let cells = 3;
+    // h = 2 cos(kx·x + ωt): the crest moves towards −x by `cells` in t.
+    let t = (cells as f64 * dx / speed) as f32;
+    let mut state = FftState::new(&spectrum, params.patch_metres, 0.0, NormalMethod::Analytic);
+    let grid = Grid::new(n, state.spacing()).unwrap();
+    let (mut before, mut after) = (FftOcean.mesh(grid), FftOcean.mesh(grid));
+    state.step(0.0, &mut before);
+    state.step(t, &mut after);
+    let mut moved = 0.0f32;
+    for i in 0..n {
+        for j in 0..n {
+            let shifted = before.z[i * n + (j + cells) % n];
+            let now = after.z[i * n + j];
+            assert!(
+                (now - shifted).abs() < 1e-4,
+                "({i}, {j}): {now} vs {shifted}"
+            );
+            moved = moved.max((now - before.z[i * n + j]).abs());
+        }
+    }
+    assert!(moved > 0.5, "the wave moved ({moved})");
+    assert!((before.z[0] - 2.0).abs() < 1e-5, "a crest of 2 at x = 0");
+}
+
+#[test]
+fn neighbors_on_the_displaced_mesh_approach_the_analytic_normals() {
+    // Face normals see a wave well only over several vertices: the cutoff damps waves under
+    // about 2π·10 m, 16 spacings of 3.9 m.
+    let n = 256;
+    let params = FftParams {
+        cutoff_metres: 10.0,
+        ..FftParams::default()
+    };
+    let (_, analytic) = surface(&params, n, 1.0, NormalMethod::Analytic);
+    let (_, faces) = surface(&params, n, 1.0, NormalMethod::Neighbors);
+    assert_eq!((&analytic.x, &analytic.z), (&faces.x, &faces.z));
+    let mut angles: Vec<f64> = (1..n - 1)
+        .flat_map(|i| (1..n - 1).map(move |j| i * n + j))
+        .map(|v| {
+            let dot = analytic.nx[v] * faces.nx[v]
+                + analytic.ny[v] * faces.ny[v]
+                + analytic.nz[v] * faces.nz[v];
+            (dot as f64).clamp(-1.0, 1.0).acos().to_degrees()
+        })
+        .collect();
+    angles.sort_by(f64::total_cmp);
+    let median = angles[angles.len() / 2];
+    assert!(median < 0.5, "median angle {median}°");
+}
+
+#[test]
+fn sizes_40_and_1536_run() {
+    for n in [40, 1536] {
+        let params = FftParams::default();
+        let (_, mesh) = surface(&params, n, 2.0, NormalMethod::Analytic);
+        assert!(mesh
+            .z
+            .iter()
+            .chain(&mesh.x)
+            .chain(&mesh.fold)
+            .all(|v| v.is_finite()));
+        let mean_square = mean_square(&mesh.z);
+        let power = Spectrum::new(&params, n).power(2.0);
+        assert!((mean_square / power - 1.0).abs() < 1e-3, "n={n}");
+    }
+}
+
+#[test]
+fn the_model_refuses_what_it_cannot_run() {
+    let grid = Grid::new(97, 1.0).unwrap();
+    let params = OceanParams::default();
+    let err = |r: Result<Box<dyn Stepper>, InputError>| r.unwrap_err().0;
+    assert!(
+        err(FftOcean.prepare(grid, &params, NormalMethod::Analytic, Kernel::Reference))
+            .starts_with("size: ")
+    );
+    let grid = Grid::new(64, 1.0).unwrap();
+    assert!(
+        err(FftOcean.prepare(grid, &params, NormalMethod::Lookup, Kernel::Reference))
+            .starts_with("normals: ")
+    );
+    assert!(
+        err(FftOcean.prepare(grid, &params, NormalMethod::Analytic, Kernel::Fast))
+            .starts_with("kernel: ")
+    );
+}
+
+#[test]
+fn bands_stepped_phase_by_phase_give_the_whole_step_bit_for_bit() {
+    let params = FftParams::default();
+    let n = 16;
+    let spectrum = Spectrum::new(&params, n);
+    let mut whole = FftState::new(&spectrum, params.patch_metres, 1.0, NormalMethod::Analytic);
+    let grid = Grid::new(n, whole.spacing()).unwrap();
+    let mut want = FftOcean.mesh(grid);
+    let bands = [0..5, 5..11, 11..16];
+    let mut split = whole.split(&bands);
+    assert!(split.iter().all(|s| s.phases() == 2));
+    for t in [0.5f32, 3.0] {
+        whole.step(t, &mut want);
+        let mut got = FftOcean.mesh(grid);
+        for phase in 0..2 {
+            for (stepper, band) in split.iter_mut().zip(&bands) {
+                stepper.step_phase(phase, t, got.rows_mut(band.clone()));
+            }
+        }
+        assert!(got == want, "t = {t}: the banded mesh differs");
+    }
+}
