@@ -203,8 +203,9 @@ impl Placement {
 /// the config `camera`; absent, they mean the sums of sines, the synthetic workload in iterations
 /// and the default camera. 3: cells carry `trials` (each trial's breakdown, canaries, round
 /// trips and slow-trial causes) and the config `slow_trial_percent`; absent, a cell has no
-/// per-trial records and the threshold is 10. 4: the run records its `command` line; absent,
-/// it was not recorded.
+/// per-trial records and the threshold is 10. 4: the run records its `command` line, and the
+/// config may carry `fft_params` (the FFT ocean's); absent, the command was not recorded and
+/// the FFT ocean takes its defaults.
 pub const SCHEMA_VERSION: u32 = 4;
 
 /// Files written before the field existed have today's layout, version 1.
