@@ -1,6 +1,6 @@
 //! Workload levels measured against this machine. A `step_fraction` level is given in the
-//! yardstick step of a mesh size (the one [`LEVEL_OCEAN`] names: for the sums of sines, the
-//! reference kernel with `neighbors` normals) and resolved to workload
+//! yardstick step of a mesh size of the cell's own ocean (each model names its yardstick: for the
+//! sums of sines, the reference kernel with `neighbors` normals) and resolved to workload
 //! iterations through the workload's measured speed. Both are measured at the start of a sweep
 //! and again before every row, interleaved, so "1.25 × the 256² step" keeps its meaning when the
 //! machine slows down mid-sweep (a shared VM's memory-bound step and ALU-bound workload do not
@@ -17,13 +17,24 @@ use std::time::{Duration, Instant};
 /// Drift beyond which a row's yardstick is reported as having moved since the sweep started.
 pub const DRIFT_WARNING: f64 = 0.10;
 
-/// The model whose yardstick step `step_fraction` levels are given in. Levels and the results
-/// file keep one yardstick per size, so a model with its own yardstick for its cells needs
-/// them keyed by model too (with the results schema version that comes with it).
+/// The model whose yardstick the sweep's start record of levels (`calibration.levels`) and
+/// `step_ms` use; every other model's steps are kept in `model_step_ms`.
 pub const LEVEL_OCEAN: OceanKind = OceanKind::Sines;
+
+/// One model's yardstick step at one size.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ModelStep {
+    /// The model.
+    pub ocean: OceanKind,
+    /// Mesh size N.
+    pub size: usize,
+    /// Median step (ms) with the model's yardstick kernel and normals.
+    pub ms: f64,
+}
 
 /// One size's yardstick: an ocean ready to step, as the model's yardstick says.
 struct Stepper {
+    kind: OceanKind,
     size: usize,
     ocean: Box<dyn crate::ocean::Stepper>,
     mesh: Mesh,
@@ -36,28 +47,31 @@ struct Stepper {
 pub struct Yardstick {
     /// Median step (ms) of each size, with [`LEVEL_OCEAN`]'s yardstick kernel and normals.
     pub step_ms: Vec<(usize, f64)>,
+    /// The same for every other model measured (absent before schema 4: only the sines were).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub model_step_ms: Vec<ModelStep>,
     /// Median nanoseconds per workload iteration.
     pub ns_per_iteration: f64,
 }
 
 impl Yardstick {
-    /// Measures `sizes` and the workload in rounds (one step of each size, then one workload
-    /// sample of `sample_iterations`), at least `min_rounds` and until `min_time` has passed,
-    /// at most 31 rounds.
+    /// Measures each model's yardstick at its sizes and the workload in rounds (one step of
+    /// each, then one workload sample of `sample_iterations`), at least `min_rounds` and until
+    /// `min_time` has passed, at most 31 rounds.
     pub fn measure(
-        sizes: &[usize],
+        points: &[(OceanKind, usize)],
         spacing: f32,
         params: &OceanParams,
         sample_iterations: u64,
         min_rounds: usize,
         min_time: Duration,
     ) -> Yardstick {
-        let mut steppers: Vec<Stepper> = sizes
+        let mut steppers: Vec<Stepper> = points
             .iter()
-            .map(|&size| {
+            .map(|&(kind, size)| {
                 let grid =
                     Grid::new(size, spacing).expect("sizes are validated before calibration");
-                let model = LEVEL_OCEAN.model();
+                let model = kind.model();
                 let (kernel, normals) = model.yardstick();
                 let mut ocean = model
                     .prepare(grid, params, normals, kernel)
@@ -65,6 +79,7 @@ impl Yardstick {
                 let mut mesh = model.mesh(grid);
                 ocean.step(0.0, &mut mesh);
                 Stepper {
+                    kind,
                     size,
                     ocean,
                     mesh,
@@ -89,14 +104,34 @@ impl Yardstick {
                 break;
             }
         }
+        let measured = steppers.iter().zip(&steps);
         Yardstick {
-            step_ms: steppers
-                .iter()
-                .zip(&steps)
+            step_ms: measured
+                .clone()
+                .filter(|(s, _)| s.kind == LEVEL_OCEAN)
                 .map(|(s, t)| (s.size, stats::median(t)))
+                .collect(),
+            model_step_ms: measured
+                .filter(|(s, _)| s.kind != LEVEL_OCEAN)
+                .map(|(s, t)| ModelStep {
+                    ocean: s.kind,
+                    size: s.size,
+                    ms: stats::median(t),
+                })
                 .collect(),
             ns_per_iteration: stats::median(&work),
         }
+    }
+
+    /// The measured yardstick step of `ocean` at `size`, if it was measured.
+    pub fn step_for(&self, ocean: OceanKind, size: usize) -> Option<f64> {
+        if ocean == LEVEL_OCEAN {
+            return self.step_of(size);
+        }
+        self.model_step_ms
+            .iter()
+            .find(|m| m.ocean == ocean && m.size == size)
+            .map(|m| m.ms)
     }
 
     /// The measured step of `size`, if it was measured.
@@ -142,6 +177,22 @@ pub fn yardstick_sizes<'a>(
     all.sort_unstable();
     all.dedup();
     all
+}
+
+/// Every (model, size) a yardstick measures: the sizes of [`yardstick_sizes`] for each of
+/// `oceans`, and always for [`LEVEL_OCEAN`], whose steps the start record of levels keeps.
+pub fn yardstick_points<'a>(
+    oceans: &[OceanKind],
+    sizes: &[usize],
+    levels: impl IntoIterator<Item = &'a Level> + Clone,
+) -> Vec<(OceanKind, usize)> {
+    let mut kinds = vec![LEVEL_OCEAN];
+    kinds.extend(oceans.iter().copied().filter(|&o| o != LEVEL_OCEAN));
+    let sizes = yardstick_sizes(sizes, levels);
+    kinds
+        .into_iter()
+        .flat_map(|k| sizes.iter().map(move |&s| (k, s)))
+        .collect()
 }
 
 /// How a cell's workload level was set and how the machine had moved when its row started.
@@ -198,8 +249,13 @@ mod tests {
 
     #[test]
     fn the_yardstick_measures_every_size_and_the_workload() {
+        let points = [
+            (OceanKind::Sines, 8),
+            (OceanKind::Sines, 16),
+            (OceanKind::Fft, 16),
+        ];
         let y = Yardstick::measure(
-            &[8, 16],
+            &points,
             1.0,
             &OceanParams::default(),
             1000,
@@ -209,7 +265,20 @@ mod tests {
         assert_eq!(y.step_ms.len(), 2);
         assert!(y.step_of(8).unwrap() > 0.0 && y.step_of(16).unwrap() > 0.0);
         assert!(y.step_of(32).is_none());
+        assert_eq!(y.model_step_ms.len(), 1);
+        assert!(y.step_for(OceanKind::Fft, 16).unwrap() > 0.0);
+        assert!(y.step_for(OceanKind::Fft, 8).is_none());
+        assert_eq!(y.step_for(OceanKind::Sines, 8), y.step_of(8));
         assert!(y.ns_per_iteration > 0.0);
+        assert_eq!(
+            yardstick_points(&[OceanKind::Fft], &[16], &[Level::step_fraction(1.0, 32)]),
+            [
+                (OceanKind::Sines, 16),
+                (OceanKind::Sines, 32),
+                (OceanKind::Fft, 16),
+                (OceanKind::Fft, 32)
+            ]
+        );
     }
 
     #[test]

@@ -440,6 +440,18 @@ impl SweepConfig {
         }
         for (i, level) in self.workload_levels.iter().enumerate() {
             level.validate(i, self.max_workload_micros(), &self.axes.workload_kind)?;
+            // A step_fraction level is a fraction of each listed ocean's own yardstick step at
+            // its size, so every listed model must run that size.
+            if let (Some(_), Some(size)) = (level.step_fraction, level.size) {
+                for &ocean in &self.axes.ocean {
+                    let model = ocean.model();
+                    model.check(size, model.yardstick().1).map_err(|e| {
+                        InputError(format!(
+                            "workload_levels[{i}].size: {size} is no size of ocean `{ocean}`'s yardstick: {e}"
+                        ))
+                    })?;
+                }
+            }
         }
         if let Some(&w) = self
             .axes

@@ -204,8 +204,9 @@ impl Placement {
 /// and the default camera. 3: cells carry `trials` (each trial's breakdown, canaries, round
 /// trips and slow-trial causes) and the config `slow_trial_percent`; absent, a cell has no
 /// per-trial records and the threshold is 10. 4: the run records its `command` line, and the
-/// config may carry `fft_params` (the FFT ocean's); absent, the command was not recorded and
-/// the FFT ocean takes its defaults.
+/// config may carry `fft_params` (the FFT ocean's), and the yardsticks `model_step_ms` (every
+/// model's step but the sines'); absent, the command was not recorded, the FFT ocean takes its
+/// defaults and only the sines were measured.
 pub const SCHEMA_VERSION: u32 = 4;
 
 /// Files written before the field existed have today's layout, version 1.

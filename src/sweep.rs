@@ -10,7 +10,7 @@ use crate::crosscore;
 use crate::frame_loop::{self, Budget, LoopError, LoopSpec, Mode, Threading};
 use crate::machine::Machine;
 use crate::measure::{Breakdown, Mailbox, Summary, Trial};
-use crate::ocean::{Grid, OceanParams};
+use crate::ocean::{Grid, OceanKind, OceanParams};
 use crate::results::{
     CalibrationRecord, Cell, CellKey, CellNoise, LevelRecord, Pins, Placement, Results, StepTime,
 };
@@ -31,9 +31,13 @@ pub fn cells(config: &SweepConfig) -> Vec<CellKey> {
 /// refers to), and resolves every level to iterations.
 pub fn calibrate(config: &SweepConfig, params: &OceanParams) -> CalibrationRecord {
     let workload = Calibration::measure(9);
-    let sizes = calibrate::yardstick_sizes(&config.axes.sizes, &config.workload_levels);
+    let points = calibrate::yardstick_points(
+        &config.axes.ocean,
+        &config.axes.sizes,
+        &config.workload_levels,
+    );
     let start = Yardstick::measure(
-        &sizes,
+        &points,
         config.spacing,
         params,
         workload.sample_iterations,
@@ -338,25 +342,37 @@ impl Sweep {
             return (at_start.iterations, None);
         };
         let level = &config.workload_levels[key.workload];
-        let sizes = calibrate::yardstick_sizes(&[key.size], [level]);
+        let points: Vec<(OceanKind, usize)> = calibrate::yardstick_sizes(&[key.size], [level])
+            .into_iter()
+            .map(|s| (key.ocean, s))
+            .collect();
         let row = Yardstick::measure(
-            &sizes,
+            &points,
             config.spacing,
             &self.params,
             self.results.calibration.workload.sample_iterations,
             5,
             Duration::from_millis(50),
         );
+        // A step_fraction level is a fraction of the row's own ocean's step: the row's yardstick,
+        // or with `once` the start's (whose record of levels is the sines').
         let (micros, iterations) = match (config.calibrate, level.step_fraction) {
             (Calibrate::Row, Some(_)) => {
-                calibrate::resolve(level, |s| row.step_of(s), row.ns_per_iteration)
+                calibrate::resolve(level, |s| row.step_for(key.ocean, s), row.ns_per_iteration)
+            }
+            (Calibrate::Once, Some(_)) if key.ocean != calibrate::LEVEL_OCEAN => {
+                calibrate::resolve(
+                    level,
+                    |s| start.step_for(key.ocean, s),
+                    start.ns_per_iteration,
+                )
             }
             _ => (at_start.micros, at_start.iterations),
         };
         let calibration = RowCalibration {
             calibrate: config.calibrate,
-            step_ms_at_start: start.step_of(key.size).unwrap_or(f64::NAN),
-            step_ms_in_row: row.step_of(key.size).unwrap_or(f64::NAN),
+            step_ms_at_start: start.step_for(key.ocean, key.size).unwrap_or(f64::NAN),
+            step_ms_in_row: row.step_for(key.ocean, key.size).unwrap_or(f64::NAN),
             ns_per_iteration_at_start: start.ns_per_iteration,
             ns_per_iteration_in_row: row.ns_per_iteration,
             level_micros: micros,

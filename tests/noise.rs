@@ -203,3 +203,42 @@ fn doctor_reports_one_line_per_finding_and_json_for_machines() {
     assert!(report["findings"].as_array().is_some_and(|f| !f.is_empty()));
     assert!(report["missing"].is_array());
 }
+
+/// A step_fraction level is a fraction of the cell's own ocean's yardstick step: the sines' for
+/// sines rows, the FFT ocean's for fft rows, both measured at the start and again in each row.
+#[test]
+fn step_fraction_levels_follow_each_oceans_own_yardstick() {
+    use oceanbench::ocean::OceanKind;
+    let mut config = tiny(vec![Mode::Serial], vec![Level::step_fraction(0.5, 32)]);
+    config.axes.sizes = vec![32];
+    config.axes.ocean = vec![OceanKind::Sines, OceanKind::Fft];
+    config.axes.normals = vec![oceanbench::ocean::NormalMethod::Analytic];
+    let results = run(config);
+    let start = results.calibration.start.as_ref().unwrap();
+    let (sines, fft) = (
+        start.step_for(OceanKind::Sines, 32).unwrap(),
+        start.step_for(OceanKind::Fft, 32).unwrap(),
+    );
+    assert!(sines > 0.0 && fft > 0.0);
+    assert_eq!(results.cells.len(), 2);
+    for cell in &results.cells {
+        let cal = cell.calibration.as_ref().unwrap();
+        assert!(
+            (cal.level_micros - 0.5 * cal.step_ms_in_row * 1e3).abs() < 1e-6,
+            "{}: {cal:?}",
+            cell.key.label()
+        );
+        let at_start = start.step_for(cell.key.ocean, 32).unwrap();
+        assert_eq!(cal.step_ms_at_start, at_start, "{}", cell.key.label());
+    }
+    let err = SweepConfig::from_json(
+        r#"{"ocean": ["fft"], "sizes": [32], "normals": ["analytic"], "workloads": [0],
+            "workload_levels": [{"step_fraction": 0.5, "size": 97}]}"#,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("workload_levels[0].size: 97") && err.contains("fft"),
+        "{err}"
+    );
+}
