@@ -9,19 +9,14 @@ use crate::cell::Dim;
 use crate::stats;
 use plotters::style::RGBColor;
 
-const IDEAL: RGBColor = RGBColor(0xd5, 0x5e, 0x00);
+const IDEAL: RGBColor = super::PALETTE[1];
 const LEVEL: RGBColor = RGBColor(0x99, 0x99, 0x99);
 
-/// One colour per searched cell in a panel.
+/// One colour per searched cell in a panel: the methods' palette without the orange of the
+/// ideal curve.
 fn cell_color(i: usize) -> RGBColor {
-    const PALETTE: [RGBColor; 5] = [
-        RGBColor(0x00, 0x72, 0xb2),
-        RGBColor(0x00, 0x9e, 0x73),
-        RGBColor(0xcc, 0x79, 0xa7),
-        RGBColor(0xe6, 0x9f, 0x00),
-        RGBColor(0x56, 0xb4, 0xe9),
-    ];
-    shade(PALETTE[i % PALETTE.len()], i / PALETTE.len())
+    const CELLS: [usize; 5] = [0, 2, 3, 4, 5];
+    shade(super::PALETTE[CELLS[i % CELLS.len()]], i / CELLS.len())
 }
 
 /// The speed-up curve of every searched cell, one panel per size.
