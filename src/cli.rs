@@ -175,6 +175,10 @@ pub struct RunArgs {
     /// Workload as microseconds of one core's work, instead of a level index.
     #[arg(long, conflicts_with = "workload", allow_negative_numbers = true)]
     pub workload_micros: Option<f64>,
+    /// With `--workload-kind spray`: the particle pool's capacity, the spray's level
+    /// [default: 131072].
+    #[arg(long, conflicts_with = "workload", allow_negative_numbers = true)]
+    pub particles: Option<f64>,
     /// Waves file (JSON); default: the built-in deep-ocean set.
     #[arg(long)]
     pub waves: Option<PathBuf>,

@@ -8,7 +8,7 @@ use crate::cell::{Axes, CellKey};
 use crate::frame_loop::{check_depth, check_helpers, Budget, Mode};
 use crate::ocean::{mesh, FftParams, Grid, Mesh, OceanParams, Wave, WaveSet};
 use crate::suggest;
-use crate::workload::WorkloadKind;
+use crate::workload::{spray, SprayParams, WorkloadKind};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -120,6 +120,13 @@ impl Level {
             if !alone {
                 return Err(InputError(format!("{field}: {}, one of them", forms())));
             }
+            if unit == spray::Spray::UNIT {
+                return spray::check_particles(
+                    &format!("{field}.{unit}"),
+                    amount,
+                    available_memory(),
+                );
+            }
             if !(amount.is_finite()
                 && (0.0..=MAX_AMOUNT).contains(&amount)
                 && amount.fract() == 0.0)
@@ -129,6 +136,11 @@ impl Level {
                 )));
             }
             return Ok(());
+        }
+        if let Some(kind) = kinds.iter().find(|k| k.unit() == spray::Spray::UNIT) {
+            return Err(InputError(format!(
+                "{field}: workload_kind `{kind}` takes its level in particles, {{\"particles\": N}}; microseconds and step fractions are not converted to particles (spray has no per-particle calibration)"
+            )));
         }
         match (self.micros, self.step_fraction, self.size) {
             (Some(us), None, None) if us.is_finite() && (0.0..=max_micros).contains(&us) => Ok(()),
@@ -205,6 +217,8 @@ pub struct SweepConfig {
     pub balance: Option<BalanceSettings>,
     /// The camera the `render` workload looks through.
     pub camera: Camera,
+    /// The `spray` workload's parameters.
+    pub spray: SprayParams,
 }
 
 impl Default for SweepConfig {
@@ -233,6 +247,7 @@ impl Default for SweepConfig {
             slow_trial_percent: crate::slow_trials::DEFAULT_THRESHOLD_PERCENT,
             balance: None,
             camera: Camera::default(),
+            spray: SprayParams::default(),
         }
     }
 }
@@ -519,6 +534,7 @@ impl SweepConfig {
             b.validate("balance.")?;
         }
         self.camera.validate()?;
+        self.spray.validate()?;
         self.ocean_params()?;
         self.placement()?;
         for key in self.axes.cells() {
@@ -561,7 +577,7 @@ fn check_memory(key: &CellKey, grid: Grid) -> Result<(), InputError> {
 }
 
 /// MemAvailable from /proc/meminfo, in bytes (None where it cannot be read).
-fn available_memory() -> Option<u64> {
+pub fn available_memory() -> Option<u64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;

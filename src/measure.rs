@@ -2,6 +2,7 @@
 //! the per-frame breakdown, and the spread over trials.
 
 use crate::stats::{self, quantile};
+use crate::workload::WorkCounts;
 use serde::{Deserialize, Serialize};
 
 /// What the main thread timed in one frame (nanoseconds).
@@ -36,6 +37,8 @@ pub struct FrameRecord {
     /// The frame index the consumed mesh was computed for: the frame's own under `fifo`, the
     /// newest finished one under `latest`.
     pub mesh_frame: u64,
+    /// What the main thread's work counted in the frame (spray's particles), if it counts.
+    pub work_counts: Option<WorkCounts>,
 }
 
 /// One trial's frames.
@@ -315,10 +318,57 @@ pub struct Summary {
     /// With `read` consumption, the trials' checksums of the meshes read, folded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub read_checksum: Option<u64>,
+    /// Each trial's particle counts, for a workload that counts them (`spray`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub particles: Vec<ParticleTrial>,
     /// Measured frames over every trial.
     pub frames: usize,
     /// Measured seconds over every trial.
     pub seconds: f64,
+}
+
+/// One trial's particles: the live count per frame and the births and deaths per frame, and
+/// the time the work took on the main thread.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ParticleTrial {
+    /// Mean live count after a frame.
+    pub live_mean: f64,
+    /// Fewest live after a frame.
+    pub live_min: u32,
+    /// Most live after a frame.
+    pub live_max: u32,
+    /// Mean particles emitted per frame.
+    pub emitted_per_frame: f64,
+    /// Mean particles killed and their slots freed per frame.
+    pub recycled_per_frame: f64,
+    /// Mean main-thread time of the work per frame (ms).
+    pub main_ms: f64,
+}
+
+impl ParticleTrial {
+    /// The trial's counts; `None` when its frames counted nothing.
+    pub fn of(trial: &Trial) -> Option<ParticleTrial> {
+        let counts: Vec<WorkCounts> = trial.frames.iter().filter_map(|f| f.work_counts).collect();
+        if counts.is_empty() {
+            return None;
+        }
+        let mean = |f: fn(&WorkCounts) -> u32| {
+            stats::mean(&counts.iter().map(|c| f64::from(f(c))).collect::<Vec<_>>())
+        };
+        let main: Vec<f64> = trial
+            .frames
+            .iter()
+            .map(|f| f.workload_ns as f64 * 1e-6)
+            .collect();
+        Some(ParticleTrial {
+            live_mean: mean(|c| c.live),
+            live_min: counts.iter().map(|c| c.live).min().unwrap_or(0),
+            live_max: counts.iter().map(|c| c.live).max().unwrap_or(0),
+            emitted_per_frame: mean(|c| c.emitted),
+            recycled_per_frame: mean(|c| c.recycled),
+            main_ms: stats::mean(&main),
+        })
+    }
 }
 
 impl Latency {
@@ -402,6 +452,7 @@ impl Summary {
                 .iter()
                 .filter_map(|t| t.checksum)
                 .reduce(|a, b| a ^ b.rotate_left(17)),
+            particles: trials.iter().filter_map(ParticleTrial::of).collect(),
             frames: all.len(),
             seconds,
         })

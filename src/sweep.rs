@@ -27,6 +27,27 @@ pub fn cells(config: &SweepConfig) -> Vec<CellKey> {
     config.axes.cells()
 }
 
+/// The line saying which oceans' cells a sweep leaves out because `spray` cannot run on them,
+/// when it lists such an ocean beside one it can.
+pub fn spray_skips(config: &SweepConfig) -> Option<String> {
+    if !config.axes.workload_kind.contains(&WorkloadKind::Spray) {
+        return None;
+    }
+    let skipped: Vec<&str> = config
+        .axes
+        .ocean
+        .iter()
+        .filter(|o| WorkloadKind::Spray.check_ocean(**o).is_err())
+        .map(|o| o.name())
+        .collect();
+    (!skipped.is_empty()).then(|| {
+        format!(
+            "spray cells on the {} ocean skipped: spray needs the fft ocean's folds",
+            skipped.join(", ")
+        )
+    })
+}
+
 /// Measures the workload speed and the yardstick (every listed size and every size a level
 /// refers to), and resolves every level to iterations.
 pub fn calibrate(config: &SweepConfig, params: &OceanParams) -> CalibrationRecord {
@@ -413,6 +434,7 @@ impl Sweep {
             workload_kind: key.workload_kind,
             workload_amount: iterations,
             camera: config.camera,
+            spray: config.spray,
             depth: key.depth.unwrap_or(1),
             consume: key.consume,
             main_core: self.cores[0],

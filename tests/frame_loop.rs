@@ -26,6 +26,7 @@ fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMetho
         workload_kind: WorkloadKind::Synthetic,
         workload_amount: 50,
         camera: Camera::default(),
+        spray: Default::default(),
         depth: 1,
         consume: Consume::Copy,
         main_core: cores[0],

@@ -264,6 +264,7 @@ impl CellKey {
     /// [`Axes::check_coverage`].
     pub fn coherent(&self) -> Result<(), InputError> {
         check_offers(self.ocean, self.ocean.model(), self.kernel, self.normals)?;
+        self.workload_kind.check_ocean(self.ocean)?;
         match (
             self.policy,
             self.sync,

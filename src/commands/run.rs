@@ -3,11 +3,15 @@
 use super::{command_line, fail_on_errors, interrupt, lock_cores, prepare_out_dir, CliError};
 use crate::cell::{Axes, Dim};
 use crate::cli::{DimArgs, RunArgs};
-use crate::config::{Level, SweepConfig};
+use crate::config::{available_memory, InputError, Level, SweepConfig};
 use crate::frame_loop::Mode;
 use crate::report;
 use crate::results::Results;
 use crate::sweep::Sweep;
+use crate::workload::{spray, Spray, WorkloadKind};
+
+/// The slides' particle count, `--particles`'s default.
+const DEFAULT_PARTICLES: f64 = 131_072.0;
 
 /// The cell `run` measures when its flags are left out: a mid-size mesh in DP, where the
 /// hand-off matters, rather than the sweep's first values.
@@ -72,6 +76,20 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
     if let Some(us) = args.workload_micros {
         config.workload_levels = vec![Level::micros(us)];
         config.axes.workloads = vec![0];
+    }
+    if config.axes.workload_kind.contains(&WorkloadKind::Spray) {
+        let particles = args.particles.unwrap_or(DEFAULT_PARTICLES);
+        spray::check_particles("--particles", particles, available_memory())?;
+        config.workload_levels = vec![Level::in_unit(Spray::UNIT, particles as u64)];
+        config.axes.workloads = vec![0];
+    } else if args.particles.is_some() {
+        return Err(InputError(
+            "--particles: the spray's level; give it with --workload-kind spray".into(),
+        )
+        .into());
+    }
+    if let Some(note) = crate::sweep::spray_skips(&config) {
+        eprintln!("oceanbench: {note}");
     }
     let _out_lock = args.out.as_deref().map(prepare_out_dir).transpose()?;
     config.validate()?;
@@ -150,6 +168,18 @@ fn print_cells(results: &Results) {
                     l.age_ms_median, l.age_ms_p99, m.dropped, m.repeated, s.frames
                 );
             }
+        }
+        for (i, p) in cell.summary.iter().flat_map(|s| &s.particles).enumerate() {
+            println!(
+                "  particles, trial {}: live {:.0} mean ({}-{}), {:.0} emitted and {:.0} recycled per frame; spray {:.3} ms per frame on the main thread",
+                i + 1,
+                p.live_mean,
+                p.live_min,
+                p.live_max,
+                p.emitted_per_frame,
+                p.recycled_per_frame,
+                p.main_ms
+            );
         }
         if let Some(n) = &cell.noise {
             println!(

@@ -62,6 +62,9 @@ fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf, Vec<Lock>)>, CliErr
         let mut config = config.unwrap_or_default();
         args.noise.apply(&mut config);
         config.validate()?;
+        if let Some(note) = crate::sweep::spray_skips(&config) {
+            eprintln!("oceanbench: {note}");
+        }
         let dir = args
             .out
             .clone()

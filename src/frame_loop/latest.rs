@@ -160,6 +160,7 @@ fn consume<F: FnMut(u64, &Mesh)>(
         age_ns: ns(t2.saturating_duration_since(frame.published)),
         latency_ns: ns(t2.saturating_duration_since(frame.started)),
         mesh_frame: index,
+        work_counts: work.counts(),
         ..FrameRecord::default()
     })
 }

@@ -27,7 +27,7 @@ use crate::measure::Trial;
 use crate::ocean::{Grid, Kernel, Mesh, Model, NormalMethod, OceanKind, OceanParams};
 use crate::sched::{self, ThreadCounters, ThreadNoise, TrialNoise};
 use crate::sync::{Policy, SyncMethod};
-use crate::workload::{Work, WorkSpec, WorkloadKind};
+use crate::workload::{SprayParams, Work, WorkSpec, WorkloadKind};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -91,6 +91,8 @@ pub struct LoopSpec {
     pub workload_amount: u64,
     /// The camera, for workloads that look at the mesh.
     pub camera: Camera,
+    /// The spray's parameters, for the `spray` workload.
+    pub spray: SprayParams,
     /// Mesh slots in the ring: frames the helper may finish before the main thread consumes
     /// the first of them (1: the paper's lockstep loop; ignored in `serial`).
     pub depth: usize,
@@ -158,6 +160,9 @@ impl LoopSpec {
             amount: self.workload_amount,
             grid: self.grid,
             camera: self.camera,
+            spacing: self.ocean.model().rest_spacing(self.grid, &self.params),
+            time_step: self.time_step as f32,
+            spray: self.spray,
         }
     }
 

@@ -47,6 +47,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
             // The mesh is used in the frame it was computed in, from the step's start.
             latency_ns: ns(t2 - t1),
             mesh_frame: k,
+            work_counts: work.counts(),
             ..FrameRecord::default()
         };
         if frames.finish(record, spec)? {

@@ -66,6 +66,12 @@ pub trait Model: Sync {
         Mesh::new(grid)
     }
 
+    /// Distance between the rest positions of neighbouring vertices of the meshes it fills on
+    /// `grid` (the grid's own spacing unless the model sets its own scale).
+    fn rest_spacing(&self, grid: Grid, _params: &OceanParams) -> f32 {
+        grid.spacing
+    }
+
     /// Builds the per-run state for `grid`, after [`Model::check`].
     fn prepare(
         &self,

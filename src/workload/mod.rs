@@ -4,13 +4,16 @@
 //! and one arm of [`WorkloadKind::work`].
 
 mod render;
+pub mod spray;
 mod synthetic;
 
 pub use render::Render;
+pub use spray::{Spray, SprayParams};
 pub use synthetic::{run, run_unless, Calibration, Synthetic};
 
 use crate::camera::Camera;
-use crate::ocean::{Grid, Mesh};
+use crate::input::InputError;
+use crate::ocean::{Grid, Mesh, OceanKind};
 use std::sync::atomic::AtomicBool;
 
 crate::named! {
@@ -22,7 +25,21 @@ crate::named! {
         /// the camera's view-projection, then spends the level's work as the cost of submitting
         /// the frame.
         Render,
+        /// The slides' spray: a pool of particles born where the consumed mesh folds, flown
+        /// under gravity and drag, killed below the surface or when they expire.
+        Spray,
     }
+}
+
+/// What a counting kind's last frame did (spray: its particles).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WorkCounts {
+    /// Live after the frame.
+    pub live: u32,
+    /// Born in the frame.
+    pub emitted: u32,
+    /// Killed in the frame, their slots freed for reuse.
+    pub recycled: u32,
 }
 
 /// The stop flag was raised before the frame's work was done.
@@ -48,6 +65,11 @@ pub trait Work: Send {
     /// A digest of what the last frame's work produced, to check that every mode, method and
     /// depth produces the same (not called while measuring).
     fn digest(&self) -> u64;
+
+    /// What the last frame counted, for kinds that count something per frame.
+    fn counts(&self) -> Option<WorkCounts> {
+        None
+    }
 }
 
 /// What a kind's work is built from.
@@ -61,6 +83,12 @@ pub struct WorkSpec {
     pub grid: Grid,
     /// The camera, for kinds that look at the mesh.
     pub camera: Camera,
+    /// Rest spacing of the meshes' vertices (the ocean model's, in its units).
+    pub spacing: f32,
+    /// Simulated seconds between two frames' meshes.
+    pub time_step: f32,
+    /// The spray's parameters.
+    pub spray: SprayParams,
 }
 
 impl WorkloadKind {
@@ -69,6 +97,15 @@ impl WorkloadKind {
         match self {
             WorkloadKind::Synthetic => Synthetic::UNIT,
             WorkloadKind::Render => Render::UNIT,
+            WorkloadKind::Spray => Spray::UNIT,
+        }
+    }
+
+    /// Refuses an ocean model the kind cannot work on (spray needs folds).
+    pub fn check_ocean(self, ocean: OceanKind) -> Result<(), InputError> {
+        match self {
+            WorkloadKind::Spray => spray::check_ocean(ocean.name(), ocean.model()),
+            _ => Ok(()),
         }
     }
 
@@ -77,6 +114,7 @@ impl WorkloadKind {
         match spec.kind {
             WorkloadKind::Synthetic => Box::new(Synthetic::new(spec.amount)),
             WorkloadKind::Render => Box::new(Render::new(spec)),
+            WorkloadKind::Spray => Box::new(Spray::new(spec)),
         }
     }
 }

@@ -124,6 +124,9 @@ mod tests {
             amount: 0,
             grid: Grid::new(n, 1.0).unwrap(),
             camera: Camera::default(),
+            spacing: 1.0,
+            time_step: 1.0 / 60.0,
+            spray: crate::workload::SprayParams::default(),
         }
     }
 

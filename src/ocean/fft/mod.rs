@@ -63,6 +63,10 @@ impl Model for FftOcean {
         Mesh::new(grid).with_fold()
     }
 
+    fn rest_spacing(&self, grid: Grid, params: &OceanParams) -> f32 {
+        (params.fft.patch_metres / grid.n as f64) as f32
+    }
+
     fn prepare(
         &self,
         grid: Grid,
