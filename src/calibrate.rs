@@ -144,7 +144,9 @@ impl Yardstick {
 }
 
 /// The microseconds a level stands for and the workload iterations it comes to, with steps
-/// from `step_of` and the workload's speed: a level in iterations is taken as it is.
+/// from `step_of` and the workload's speed: a level in iterations is taken as it is, and one in
+/// another kind's unit (spray's particles) too, standing for 0 µs: only the chain's iterations
+/// have a measured time.
 pub fn resolve(
     level: &Level,
     step_of: impl Fn(usize) -> Option<f64>,
@@ -162,7 +164,10 @@ pub fn resolve(
             let us = fraction * step_of(size).expect("the level's size was measured") * 1e3;
             (us, iterations(us))
         }
-        (None, None, None, Some((_, amount))) => (amount as f64 * ns_per_iteration / 1e3, amount),
+        (None, None, None, Some((unit, amount))) if unit == workload::Synthetic::UNIT => {
+            (amount as f64 * ns_per_iteration / 1e3, amount)
+        }
+        (None, None, None, Some((_, amount))) => (0.0, amount),
         _ => unreachable!("levels are validated before calibration"),
     }
 }
@@ -244,6 +249,10 @@ mod tests {
         assert_eq!(
             resolve(&Level::in_unit("iterations", 4_001), steps, 0.5),
             (2.0005, 4_001)
+        );
+        assert_eq!(
+            resolve(&Level::in_unit("particles", 131_072), steps, 0.5),
+            (0.0, 131_072)
         );
     }
 

@@ -316,6 +316,16 @@ impl Axes {
                     continue;
                 }
                 if let Some(Err(reason)) = dropped.iter().find(has).map(CellKey::coherent) {
+                    // A kind that cannot work on a listed ocean (spray on sines) loses those
+                    // cells alone, which the sweep says once (`sweep::spray_skips`), unless
+                    // nothing is left to run.
+                    let kind_skips = dropped
+                        .iter()
+                        .filter(has)
+                        .all(|k| k.workload_kind.check_ocean(k.ocean).is_err());
+                    if kind_skips && !kept.is_empty() {
+                        continue;
+                    }
                     return Err(reason);
                 }
             }

@@ -88,11 +88,11 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
         )
         .into());
     }
+    let _out_lock = args.out.as_deref().map(prepare_out_dir).transpose()?;
+    config.validate()?;
     if let Some(note) = crate::sweep::spray_skips(&config) {
         eprintln!("oceanbench: {note}");
     }
-    let _out_lock = args.out.as_deref().map(prepare_out_dir).transpose()?;
-    config.validate()?;
     let _core_locks = lock_cores(&config.placement()?, &args.wait)?;
     let stop = interrupt::flag();
     let sweep = Sweep::prepare(config)?.stopping_on(stop);

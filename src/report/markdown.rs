@@ -162,7 +162,12 @@ pub fn levels(results: &Results) -> String {
         .calibration
         .levels
         .iter()
-        .map(|l| format!("{}: {:.0} µs", l.workload, l.micros))
+        .map(|l| match l.level.amount() {
+            Some((unit, amount)) if unit != crate::workload::Synthetic::UNIT => {
+                format!("{}: {amount} {unit}", l.workload)
+            }
+            _ => format!("{}: {:.0} µs", l.workload, l.micros),
+        })
         .collect::<Vec<_>>()
         .join(", ")
 }
