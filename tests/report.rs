@@ -395,6 +395,7 @@ fn a_balance_point_gets_its_section() {
         round_trip_ns: vec![100.0, 110.0],
         note: None,
         probes: Vec::new(),
+        unit_cost: None,
     });
     let doc = page(&r);
     let balance = tables(&doc, "Balance points");

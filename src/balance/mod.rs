@@ -10,7 +10,7 @@
 
 pub mod record;
 
-pub use record::{BalanceEntry, BalanceSettings, Probe, Ratio};
+pub use record::{BalanceEntry, BalanceSettings, Probe, Ratio, UnitCost};
 
 use crate::cell::CellKey;
 use crate::crosscore;
@@ -57,7 +57,8 @@ pub fn search(
     key: &CellKey,
     settings: &BalanceSettings,
 ) -> Result<BalanceEntry, BalanceError> {
-    let prober = Prober::new(sweep, key, settings);
+    let mut prober = Prober::new(sweep, key, settings);
+    prober.unit_cost = prober.unit_cost()?;
     let before = prober.round_trip();
     let step_us = prober.step_us()?;
     let mut probes: Vec<Probe> = Vec::new();
@@ -81,6 +82,7 @@ pub fn search(
         round_trip_ns: Vec::new(),
         note: None,
         probes: Vec::new(),
+        unit_cost: prober.unit_cost.clone(),
     };
     if key.mode == Mode::Up {
         entry.note = Some("one core runs both threads: the main thread always waits, so there is no balance point".into());
@@ -190,7 +192,13 @@ struct Prober<'a> {
     up: Option<CellKey>,
     settings: &'a BalanceSettings,
     budget: Budget,
+    /// The cost of one unit of a kind not counted in the chain's iterations.
+    unit_cost: Option<UnitCost>,
 }
+
+/// The level at which a kind with its own unit has its cost per unit measured: the slides'
+/// particle count.
+const UNIT_COST_AT: u64 = 131_072;
 
 impl<'a> Prober<'a> {
     fn new(sweep: &'a dyn Testbed, key: &'a CellKey, settings: &'a BalanceSettings) -> Prober<'a> {
@@ -205,13 +213,37 @@ impl<'a> Prober<'a> {
             up: (key.mode == Mode::Dp).then(|| twin(Mode::Up)),
             settings,
             budget: sweep.budget(),
+            unit_cost: None,
         }
     }
 
+    /// For a kind whose unit is not the chain's iterations, the main thread's time per unit at
+    /// [`UNIT_COST_AT`] units in the serial twin: the search's W converts to a level through
+    /// it (linearly: the kind's fixed cost per frame is spread over the units).
+    fn unit_cost(&self) -> Result<Option<UnitCost>, BalanceError> {
+        let unit = self.key.workload_kind.unit();
+        if unit == crate::workload::Synthetic::UNIT {
+            return Ok(None);
+        }
+        let trial = self.run_at(&self.serial, UNIT_COST_AT)?;
+        let main: Vec<f64> = trial.frames.iter().map(|f| f.workload_ns as f64).collect();
+        Ok(Some(UnitCost {
+            unit: unit.to_string(),
+            ns: stats::mean(&main) / UNIT_COST_AT as f64,
+        }))
+    }
+
     fn trial(&self, key: &CellKey, workload_us: f64) -> Result<Trial, BalanceError> {
-        let ns_per_iteration = self.sweep.ns_per_iteration();
-        let iterations = (workload_us * 1e3 / ns_per_iteration).round() as u64;
-        let spec = self.sweep.loop_spec(key, iterations);
+        let amount = match &self.unit_cost {
+            Some(cost) => cost.amount(workload_us),
+            None => (workload_us * 1e3 / self.sweep.ns_per_iteration()).round() as u64,
+        };
+        self.run_at(key, amount)
+    }
+
+    /// One trial of `key` at `amount` of the kind's unit.
+    fn run_at(&self, key: &CellKey, amount: u64) -> Result<Trial, BalanceError> {
+        let spec = self.sweep.loop_spec(key, amount);
         match frame_loop::run(&spec, &self.budget, |_, _| {}) {
             Ok(run) => Ok(run.trial),
             Err(LoopError::Interrupted) => Err(BalanceError::Interrupted),

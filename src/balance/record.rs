@@ -179,11 +179,38 @@ pub struct BalanceEntry {
     pub note: Option<String>,
     /// Every measured point: the curve's, the search's and the balance's.
     pub probes: Vec<Probe>,
+    /// For a kind whose level is not the chain's iterations (spray: `particles`), its unit and
+    /// the main-thread nanoseconds one unit cost, measured before the search: every probe's W
+    /// ran as W ÷ that many units.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unit_cost: Option<UnitCost>,
+}
+
+/// What one unit of a kind's level cost on the main thread.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct UnitCost {
+    /// The unit's name.
+    pub unit: String,
+    /// Main-thread nanoseconds per unit.
+    pub ns: f64,
+}
+
+impl UnitCost {
+    /// The level in units that `micros` of work comes to.
+    pub fn amount(&self, micros: f64) -> u64 {
+        (micros * 1e3 / self.ns).round() as u64
+    }
 }
 
 impl BalanceEntry {
     /// The balance point as a fraction of the step.
     pub fn fraction(&self) -> Option<f64> {
         self.balance_us.map(|b| b / self.step_us)
+    }
+
+    /// The balance point in the kind's own unit, when the level has one (spray's particles).
+    pub fn balance_amount(&self) -> Option<(u64, &str)> {
+        let cost = self.unit_cost.as_ref()?;
+        Some((cost.amount(self.balance_us?), cost.unit.as_str()))
     }
 }

@@ -5,12 +5,13 @@ use super::{command_line, default_out_dir, interrupt, lock_cores, prepare_out_di
 use crate::balance::{self, BalanceError, BalanceSettings};
 use crate::cell::{Axes, Dim};
 use crate::cli::BalanceArgs;
-use crate::config::{InputError, SweepConfig};
+use crate::config::{InputError, Level, SweepConfig};
 use crate::frame_loop::Mode;
 use crate::report;
 use crate::report::chart::{self, ChartOptions};
 use crate::sweep::{self, Sweep};
 use crate::sync::SyncMethod;
+use crate::workload::{Spray, WorkloadKind};
 
 /// What `balance` searches when no config or flag says otherwise: the Figure 5-1 sizes in DP
 /// with the paper's interlocked hand-off, and a short trial budget (a search runs hundreds).
@@ -45,6 +46,11 @@ pub(super) fn balance(args: BalanceArgs) -> Result<(), CliError> {
     };
     for (dim, values) in &args.select.given {
         config.axes.set(*dim, values)?;
+    }
+    if config.axes.workload_kind.contains(&WorkloadKind::Spray) && args.config.is_none() {
+        // The search sets the level itself; the config needs one in the kind's unit.
+        config.workload_levels = vec![Level::in_unit(Spray::UNIT, 131_072)];
+        config.axes.workloads = vec![0];
     }
     let mut settings = config.balance.clone().unwrap_or_default();
     if let Some(t) = args.tolerance {

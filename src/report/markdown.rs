@@ -385,6 +385,9 @@ pub fn to_string(results: &Results) -> String {
     out.push_str(&latest(results));
     out.push_str(&waiting(results));
     out.push_str(&balance(results));
+    if let Some(t) = particles_table(results) {
+        out.push_str(&t.to_markdown());
+    }
     out.push_str(&slow_and_noisy(results));
     let failed: Vec<&Cell> = results.cells.iter().filter(|c| c.error.is_some()).collect();
     if !failed.is_empty() {
@@ -447,6 +450,62 @@ pub fn run_ahead(results: &Results) -> String {
     }
     out.push('\n');
     out
+}
+
+/// Per cell whose workload counts particles (`spray`): its FPS, the live count (mean over the
+/// trials' means, and the lowest and highest any frame had), the births and deaths per frame,
+/// the spray's main-thread time per frame and the consumed meshes' age. `None` without such a
+/// cell.
+pub fn particles_table(results: &Results) -> Option<Table> {
+    let rows: Vec<Vec<String>> = results
+        .cells
+        .iter()
+        .filter_map(|c| {
+            let s = c.summary.as_ref()?;
+            let p = &s.particles;
+            if p.is_empty() {
+                return None;
+            }
+            let mean = |f: fn(&crate::measure::ParticleTrial) -> f64| {
+                p.iter().map(f).sum::<f64>() / p.len() as f64
+            };
+            Some(vec![
+                c.key.label(),
+                fps(Some(c)),
+                format!(
+                    "{:.0} ({}-{})",
+                    mean(|t| t.live_mean),
+                    p.iter().map(|t| t.live_min).min().unwrap_or(0),
+                    p.iter().map(|t| t.live_max).max().unwrap_or(0)
+                ),
+                format!("{:.0}", mean(|t| t.emitted_per_frame)),
+                format!("{:.0}", mean(|t| t.recycled_per_frame)),
+                format!("{:.3}", mean(|t| t.main_ms)),
+                s.latency
+                    .as_ref()
+                    .map_or("–".into(), |l| format!("{:.2}", l.age_frames_mean)),
+            ])
+        })
+        .collect();
+    (!rows.is_empty()).then(|| Table {
+        title: "Spray particles".into(),
+        header: [
+            "cell",
+            "FPS",
+            "live per frame: mean (min-max)",
+            "emitted per frame",
+            "recycled per frame",
+            "spray ms per frame (main thread)",
+            "mesh age (frames)",
+        ]
+        .map(String::from)
+        .to_vec(),
+        numeric: vec![false, true, true, true, true, true, true],
+        rows,
+        notes: vec![
+            "The level is the pool's capacity; live counts are after each frame's kill and emission.".into(),
+        ],
+    })
 }
 
 /// What the `latest` policy buys and what it drops: per `latest` cell, its FPS, the consumed
@@ -582,7 +641,14 @@ pub fn balance_table(results: &Results) -> Option<Table> {
         rows.push(vec![
             label.clone(),
             format!("{:.0}", e.step_us),
-            interval(e.balance_us, e.balance_us_low, e.balance_us_high, 0),
+            match e.balance_amount() {
+                Some((amount, unit)) => format!(
+                    "{} = {amount} {unit} at {:.1} ns each",
+                    interval(e.balance_us, e.balance_us_low, e.balance_us_high, 0),
+                    e.unit_cost.as_ref().map_or(f64::NAN, |c| c.ns)
+                ),
+                None => interval(e.balance_us, e.balance_us_low, e.balance_us_high, 0),
+            },
             e.fraction().map_or("–".into(), |f| format!("{f:.2}")),
             interval(
                 e.dp_over_serial,
