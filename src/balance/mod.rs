@@ -340,6 +340,30 @@ mod tests {
     }
 
     #[test]
+    fn a_kind_with_its_own_unit_reports_the_balance_in_it() {
+        let cost = UnitCost {
+            unit: "particles".into(),
+            ns: 8.0,
+        };
+        assert_eq!(cost.amount(1_000.0), 125_000, "1 ms at 8 ns a particle");
+        let json = serde_json::json!({
+            "size": 512, "workload": 0, "workload_kind": "spray", "mode": "dp",
+            "sync": "atomic", "threading": "pool", "helpers": 1, "depth": 1, "policy": "fifo",
+            "normals": "analytic", "ocean": "fft", "kernel": "reference",
+            "consume": "copy",
+            "step_us": 8000.0, "balance_us": 6000.0, "balance_us_low": 5900.0,
+            "balance_us_high": 6100.0, "dp_over_serial": 1.8, "dp_over_serial_low": 1.7,
+            "dp_over_serial_high": 1.9, "dp_over_up": null, "overhead_percent": 3.0,
+            "round_trip_ns": [], "probes": [],
+            "unit_cost": {"unit": "particles", "ns": 8.0}
+        });
+        let mut entry: BalanceEntry = serde_json::from_value(json).unwrap();
+        assert_eq!(entry.balance_amount(), Some((750_000, "particles")));
+        entry.unit_cost = None;
+        assert_eq!(entry.balance_amount(), None, "iterations are not restated");
+    }
+
+    #[test]
     fn ratios_carry_the_bootstrap_interval() {
         let p = probe(&[1.0; 3], &[0.0; 3]);
         let r = p.over_serial(7);
