@@ -79,15 +79,7 @@ fn particles(c: &mut Criterion) {
         });
         group.bench_with_input(BenchmarkId::new("streaming floor", n), &n, |b, _| {
             b.iter(|| {
-                for a in [
-                    &mut pool.px,
-                    &mut pool.py,
-                    &mut pool.pz,
-                    &mut pool.vx,
-                    &mut pool.vy,
-                    &mut pool.vz,
-                    &mut pool.age,
-                ] {
+                for a in pool.floats_mut() {
                     a.iter_mut().for_each(|v| *v += 1.0);
                     black_box(&a);
                 }

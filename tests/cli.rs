@@ -718,3 +718,151 @@ fn frames_cut_short_by_the_time_cap_are_named() {
         "{err}"
     );
 }
+
+// `spray`: bad input and a sweep over both oceans (docs/spray.md).
+
+const SPRAY: [&str; 5] = ["run", "--workload-kind", "spray", "--ocean", "fft"];
+
+#[test]
+fn bad_particle_counts_exit_2_with_one_line_and_keep_what_was_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let kept = dir.path().join("results.json");
+    std::fs::write(&kept, "{\"earlier\": true}").unwrap();
+    let out = dir.path().to_string_lossy().into_owned();
+    for (particles, needles) in [
+        ("0", vec!["--particles", "1 to 4294967295", "got 0"]),
+        ("-5", vec!["--particles", "1 to 4294967295", "got -5"]),
+        ("2.5", vec!["--particles", "whole number"]),
+        ("1e12", vec!["--particles", "MiB for the pool", "available"]),
+    ] {
+        let mut args = SPRAY.to_vec();
+        args.extend(["--particles", particles, "--out", &out]);
+        assert_input_error(&args, &needles);
+    }
+    assert_eq!(
+        std::fs::read_to_string(&kept).unwrap(),
+        "{\"earlier\": true}"
+    );
+    assert_input_error(
+        &["run", "--particles", "1000"],
+        &["--particles", "--workload-kind spray"],
+    );
+    assert_input_error(
+        &["run", "--workload-kind", "spray", "--ocean", "sines"],
+        &["spray needs the fft ocean's folds", "sines"],
+    );
+}
+
+#[test]
+fn bad_spray_configs_exit_2_naming_the_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = |extra: &str, levels: &str| {
+        let path = dir.path().join("spray.json");
+        let text = format!(
+            r#"{{"sizes": [16], "modes": ["serial"], "ocean": ["fft"], "normals": ["analytic"],
+                "workload_kind": ["spray"], "workloads": [0], "workload_levels": [{levels}]{extra}}}"#
+        );
+        std::fs::write(&path, text).unwrap();
+        path.to_string_lossy().into_owned()
+    };
+    let good = r#"{"particles": 1000}"#;
+    for (extra, levels, needles) in [
+        (
+            r#", "spray": {"threshold": 1.5}"#,
+            good,
+            vec!["spray.threshold", "-100 to 1", "1.5"],
+        ),
+        (
+            r#", "spray": {"lifetime": -1}"#,
+            good,
+            vec!["spray.lifetime", "above 0"],
+        ),
+        (
+            r#", "spray": {"speed": -3}"#,
+            good,
+            vec!["spray.speed", "0 to 1000"],
+        ),
+        (
+            r#", "spray": {"sped": 3}"#,
+            good,
+            vec!["spray", "unknown field `sped`", "speed"],
+        ),
+        (
+            "",
+            r#"{"particles": 0}"#,
+            vec!["workload_levels[0].particles", "1 to"],
+        ),
+        (
+            "",
+            r#"{"particles": -2}"#,
+            vec!["workload_levels[0].particles", "1 to"],
+        ),
+        (
+            "",
+            r#"{"particles": 1e13}"#,
+            vec!["workload_levels[0].particles", "MiB for the pool"],
+        ),
+        (
+            "",
+            r#"{"micros": 100}"#,
+            vec!["workload_levels[0]", "particles", "not converted"],
+        ),
+        (
+            "",
+            r#"{"iterations": 100}"#,
+            vec!["workload_levels[0]", "`iterations` is not a unit"],
+        ),
+        (
+            r#", "ocean": ["sines"]"#,
+            good,
+            vec!["spray needs the fft ocean's folds"],
+        ),
+    ] {
+        let path = config(extra, levels);
+        let extra_ocean = extra.contains("\"ocean\"");
+        let path = if extra_ocean {
+            let text = std::fs::read_to_string(&path)
+                .unwrap()
+                .replace(r#""ocean": ["fft"], "#, "");
+            std::fs::write(&path, text).unwrap();
+            path
+        } else {
+            path
+        };
+        assert_input_error(&["sweep", &path, "--out", "/nonexistent/never"], &needles);
+    }
+}
+
+#[test]
+fn a_sweep_over_both_oceans_skips_the_spray_cells_on_sines_and_says_so_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("both.json");
+    std::fs::write(
+        &config,
+        r#"{"sizes": [16], "modes": ["serial"], "ocean": ["sines", "fft"],
+            "normals": ["analytic"], "workload_kind": ["spray"], "workloads": [0],
+            "workload_levels": [{"particles": 500}], "trials": 1, "warmup_frames": 0,
+            "min_frames": 3, "min_seconds": 0, "calibrate": "once"}"#,
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let run = oceanbench(&[
+        "sweep",
+        &config.to_string_lossy(),
+        "--out",
+        &out.to_string_lossy(),
+        "--no-charts",
+        "--no-doctor",
+        "--quiet",
+    ]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    let note = "spray cells on the sines ocean skipped: spray needs the fft ocean's folds";
+    assert_eq!(stderr.matches(note).count(), 1, "{stderr}");
+    let results = Results::load(&out.join("results.json")).unwrap();
+    let oceans: Vec<OceanKind> = results.cells.iter().map(|c| c.key.ocean).collect();
+    assert_eq!(oceans, [OceanKind::Fft]);
+    let particles = &results.cells[0].summary.as_ref().unwrap().particles;
+    assert_eq!(particles.len(), 1, "one trial's counts");
+    assert!(particles[0].live_max <= 500);
+}

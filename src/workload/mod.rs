@@ -72,6 +72,13 @@ pub trait Work: Send {
     }
 }
 
+/// Folds `values` into a digest from `seed`: what [`Work::digest`] implementations hash with.
+pub fn fold_digest(seed: u64, values: impl Iterator<Item = u64>) -> u64 {
+    values.fold(seed, |h, v| {
+        (h.rotate_left(5) ^ v).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+    })
+}
+
 /// What a kind's work is built from.
 #[derive(Clone, Copy, Debug)]
 pub struct WorkSpec {

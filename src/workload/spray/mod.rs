@@ -344,15 +344,13 @@ impl Work for Spray {
 
     fn digest(&self) -> u64 {
         let p = &self.pool;
-        let floats = [&p.px, &p.py, &p.pz, &p.vx, &p.vy, &p.vz, &p.age];
-        let bits = floats
-            .iter()
+        let bits = p
+            .floats()
+            .into_iter()
             .flat_map(|a| a.iter().map(|v| u64::from(v.to_bits())))
             .chain(p.alive.iter().map(|&a| u64::from(a)))
             .chain(p.free.iter().map(|&f| u64::from(f)));
-        bits.fold(self.frame ^ self.rng.0, |h, v| {
-            (h.rotate_left(5) ^ v).wrapping_mul(0x9E37_79B9_7F4A_7C15)
-        })
+        super::fold_digest(self.frame ^ self.rng.0, bits)
     }
 
     fn counts(&self) -> Option<WorkCounts> {

@@ -59,6 +59,26 @@ impl Pool {
         }
     }
 
+    /// The seven `f32` arrays the integration reads and writes: position, velocity, age.
+    pub fn floats(&self) -> [&Vec<f32>; 7] {
+        [
+            &self.px, &self.py, &self.pz, &self.vx, &self.vy, &self.vz, &self.age,
+        ]
+    }
+
+    /// The same arrays, to write.
+    pub fn floats_mut(&mut self) -> [&mut Vec<f32>; 7] {
+        [
+            &mut self.px,
+            &mut self.py,
+            &mut self.pz,
+            &mut self.vx,
+            &mut self.vy,
+            &mut self.vz,
+            &mut self.age,
+        ]
+    }
+
     /// Slots in the pool.
     pub fn capacity(&self) -> usize {
         self.alive.len()
@@ -205,15 +225,7 @@ mod tests {
         let mut rng = SplitMix64(seed);
         let mut unit = || (rng.next_u64() >> 40) as f32 / (1u64 << 24) as f32 - 0.5;
         let mut pool = Pool::new(capacity);
-        for a in [
-            &mut pool.px,
-            &mut pool.py,
-            &mut pool.pz,
-            &mut pool.vx,
-            &mut pool.vy,
-            &mut pool.vz,
-            &mut pool.age,
-        ] {
+        for a in pool.floats_mut() {
             a.iter_mut().for_each(|v| *v = 100.0 * unit());
         }
         pool
