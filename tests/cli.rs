@@ -743,6 +743,9 @@ fn bad_particle_counts_exit_2_with_one_line_and_keep_what_was_written() {
         std::fs::read_to_string(&kept).unwrap(),
         "{\"earlier\": true}"
     );
+    let mut micros = SPRAY.to_vec();
+    micros.extend(["--workload-micros", "100"]);
+    assert_input_error(&micros, &["--workload-micros", "--particles N"]);
     assert_input_error(
         &["run", "--particles", "1000"],
         &["--particles", "--workload-kind spray"],

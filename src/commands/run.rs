@@ -78,6 +78,12 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
         config.axes.workloads = vec![0];
     }
     if config.axes.workload_kind.contains(&WorkloadKind::Spray) {
+        if args.workload_micros.is_some() {
+            return Err(InputError(
+                "--workload-micros: spray's level is a particle count; give --particles N".into(),
+            )
+            .into());
+        }
         let particles = args.particles.unwrap_or(DEFAULT_PARTICLES);
         spray::check_particles("--particles", particles, available_memory())?;
         config.workload_levels = vec![Level::in_unit(Spray::UNIT, particles as u64)];
