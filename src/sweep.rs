@@ -402,6 +402,7 @@ impl Sweep {
         let config = &self.results.config;
         LoopSpec {
             grid: Grid::new(key.size, config.spacing).expect("validated"),
+            grid_kind: key.grid,
             ocean: key.ocean,
             params: self.params.clone(),
             normals: key.normals,

@@ -4,7 +4,7 @@
 use oceanbench::affinity;
 use oceanbench::camera::Camera;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
-use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, OceanParams};
+use oceanbench::ocean::{Grid, GridKind, Kernel, Mesh, NormalMethod, OceanKind, OceanParams};
 use oceanbench::sync::{Policy, SyncMethod};
 use oceanbench::workload::WorkloadKind;
 use std::time::Duration;
@@ -15,6 +15,7 @@ fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMetho
     let cores = affinity::allowed_cores();
     LoopSpec {
         grid: Grid::new(9, 0.75).unwrap(),
+        grid_kind: GridKind::Regular,
         ocean: OceanKind::Sines,
         params: OceanParams::default(),
         normals,
