@@ -102,28 +102,25 @@ pub fn place(view: &View, rows: &mut MeshRows<'_>) {
     let tan_x = tan_y * view.aspect;
     let (eye, far) = (view.eye, view.far);
     let xs = rows.x.chunks_exact_mut(n).zip(rows.y.chunks_exact_mut(n));
+    // The image's right, scaled to the half width, component by component so the row loop
+    // is plain f32 arithmetic for LLVM to vectorise.
+    let [rx, ry, rz] = (view.right * tan_x).to_array();
     for (r, (xs, ys)) in xs.enumerate() {
         let v = -1.0 + (rows.first_row + r) as f32 * step;
-        let base = view.forward + view.up * (v * tan_y);
+        let [bx, by, bz] = (view.forward + view.up * (v * tan_y)).to_array();
+        // Branch-free: a ray meets the plane at s_hit along it (never at or above the
+        // horizon) and reaches the far line at s_far; it stops at the nearer, and
+        // s_hit > s_far is exactly "meets the plane beyond far".
         for (j, (x, y)) in xs.iter_mut().zip(ys.iter_mut()).enumerate() {
             let u = -1.0 + j as f32 * step;
-            let d = base + view.right * (u * tan_x);
-            let horizontal = (d.x * d.x + d.y * d.y).sqrt();
-            // Distance along the plane per unit of the ray: infinite at or above the horizon.
-            let reach = if d.z < 0.0 {
-                eye.z / -d.z * horizontal
-            } else {
-                f32::INFINITY
-            };
-            let scale = if reach <= far {
-                eye.z / -d.z
-            } else if horizontal > 0.0 {
-                far / horizontal
-            } else {
-                0.0
-            };
-            *x = eye.x + d.x * scale;
-            *y = eye.y + d.y * scale;
+            let (dx, dy, dz) = (bx + u * rx, by + u * ry, bz + u * rz);
+            let s_hit = if dz < 0.0 { eye.z / -dz } else { f32::INFINITY };
+            let s_far = far / (dx * dx + dy * dy).sqrt();
+            // A ray straight down has no horizontal direction (s_far infinite) but always
+            // meets the plane; the bound only keeps 0 × ∞ out of reach.
+            let s = s_hit.min(s_far).min(f32::MAX);
+            *x = eye.x + dx * s;
+            *y = eye.y + dy * s;
         }
     }
 }
