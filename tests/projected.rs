@@ -5,29 +5,34 @@
 
 use oceanbench::camera::{Camera, CameraPath, View};
 use oceanbench::ocean::sines::Sines;
-use oceanbench::ocean::{Grid, GridKind, Kernel, Mesh, Model, NormalMethod, OceanParams};
+use oceanbench::ocean::{Grid, GridKind, Kernel, Mesh, Model, NormalMethod, OceanParams, Stepper};
 use oceanbench::ocean::{Wave, WaveSet};
 use oceanbench::projected;
 use std::process::{Command, Output};
 
-/// One projected step of the sines at time `t`.
-fn step(camera: Camera, kernel: Kernel, grid: Grid, waves: &WaveSet, t: f32) -> Mesh {
+/// The projected grid's stepper of the sines.
+fn stepper(camera: Camera, kernel: Kernel, grid: Grid, waves: &WaveSet) -> Box<dyn Stepper> {
     let params = OceanParams {
         waves: waves.clone(),
         ..OceanParams::default()
     };
-    let mut stepper = projected::stepper(
+    let analytic = NormalMethod::Analytic;
+    projected::stepper(
         GridKind::Projected,
         &Sines,
         grid,
         &params,
-        NormalMethod::Analytic,
+        analytic,
         kernel,
         camera,
     )
-    .unwrap();
+    .unwrap()
+}
+
+/// One projected step of the sines at time `t`.
+fn step(camera: Camera, kernel: Kernel, grid: Grid, waves: &WaveSet, t: f32) -> Mesh {
     let mut mesh = Sines.mesh(grid);
-    stepper.step(t, &mut mesh);
+    stepper(camera, kernel, grid, waves).step(t, &mut mesh);
     mesh
 }
 
@@ -258,21 +263,11 @@ fn the_mesh_follows_the_camera_along_its_path() {
 fn bands_are_bit_identical_to_whole_steps() {
     let waves = WaveSet::default();
     let grid = Grid::new(20, 1.0).unwrap();
-    let params = OceanParams::default();
     for (name, camera) in cameras() {
         for kernel in [Kernel::Reference, Kernel::Fast] {
             let whole = step(camera, kernel, grid, &waves, 3.5);
             let mut banded = Sines.mesh(grid);
-            let mut s = projected::stepper(
-                GridKind::Projected,
-                &Sines,
-                grid,
-                &params,
-                NormalMethod::Analytic,
-                kernel,
-                camera,
-            )
-            .unwrap();
+            let mut s = stepper(camera, kernel, grid, &waves);
             for rows in [0..7, 7..8, 8..20] {
                 s.step_rows(3.5, banded.rows_mut(rows));
             }
