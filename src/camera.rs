@@ -258,6 +258,32 @@ mod tests {
     }
 
     #[test]
+    fn a_still_camera_s_view_stands_at_its_eye_and_a_path_returns_after_a_period() {
+        let grid = Grid::new(33, 1.0).unwrap();
+        let still = Camera::default();
+        assert_eq!(still.view_at(grid, 7.5).eye, still.eye(grid));
+        assert_eq!(still.view_at(grid, 0.0).far, 320.0, "10 patch widths");
+        let moving = Camera {
+            path: Some(CameraPath {
+                radius: 5.0,
+                period_seconds: 4.0,
+            }),
+            ..still
+        };
+        let at = |t: f32| moving.view_at(grid, t).eye;
+        assert_eq!(at(0.0), still.eye(grid));
+        assert!(
+            (at(2.0) - still.eye(grid)).length() > 9.99,
+            "half a turn: the diameter"
+        );
+        assert!((at(4.0) - at(0.0)).length() < 1e-4);
+        assert_eq!(
+            moving.view_at(grid, 1.0).forward,
+            still.view_at(grid, 1.0).forward
+        );
+    }
+
+    #[test]
     fn every_field_out_of_range_is_named() {
         let bad = [
             (
@@ -310,6 +336,35 @@ mod tests {
                 },
             ),
         ];
+        let bad = bad.into_iter().chain([
+            (
+                "far",
+                Camera {
+                    far: Some(0.0),
+                    ..Camera::default()
+                },
+            ),
+            (
+                "path.radius",
+                Camera {
+                    path: Some(CameraPath {
+                        radius: -1.0,
+                        period_seconds: 1.0,
+                    }),
+                    ..Camera::default()
+                },
+            ),
+            (
+                "path.period_seconds",
+                Camera {
+                    path: Some(CameraPath {
+                        radius: 1.0,
+                        period_seconds: f32::NAN,
+                    }),
+                    ..Camera::default()
+                },
+            ),
+        ]);
         for (field, c) in bad {
             let e = c.validate().unwrap_err().0;
             assert!(e.starts_with(&format!("camera.{field}: must be")), "{e}");
