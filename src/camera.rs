@@ -1,6 +1,7 @@
 //! The camera that looks at the ocean patch, defined once: where it stands, where it looks and
 //! what it sees. The `render` workload transforms every vertex with its view-projection matrix;
-//! the projected grid and the fog reuse it.
+//! the projected grid and the fog reuse it. A camera may also move along a path in frame time
+//! ([`Camera::view_at`]); [`Camera::eye`] is where it stands at t = 0.
 
 use crate::input::InputError;
 use crate::ocean::Grid;
@@ -20,6 +21,46 @@ pub struct Camera {
     pub fov_degrees: f32,
     /// Width over height of the image.
     pub aspect: f32,
+    /// How far the projected grid reaches along the sea: a ray that meets the sea beyond it, or
+    /// not at all, ends at this horizontal distance from the eye; `null` is 10 × the patch's
+    /// width.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub far: Option<f32>,
+    /// The path the eye travels in frame time; `null` keeps it still.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub path: Option<CameraPath>,
+}
+
+/// A horizontal circle the eye travels at constant speed, keeping its heading and pitch: at
+/// time t it is at `eye + radius·(cos a − 1, sin a, 0)`, a = 2π·t / `period_seconds`, so t = 0
+/// is the still camera's position.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraPath {
+    /// The circle's radius, in world units.
+    pub radius: f32,
+    /// Seconds of frame time per turn.
+    pub period_seconds: f32,
+}
+
+/// Where the camera stands at one instant and the unit vectors of its frame: what the
+/// projected grid casts its rays from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    /// The eye.
+    pub eye: Vec3,
+    /// The direction it looks in.
+    pub forward: Vec3,
+    /// The image's right, horizontal.
+    pub right: Vec3,
+    /// The image's up.
+    pub up: Vec3,
+    /// tan of half the vertical field of view.
+    pub tan_half_fov: f32,
+    /// Width over height of the image.
+    pub aspect: f32,
+    /// The horizontal distance rays are clamped to.
+    pub far: f32,
 }
 
 impl Default for Camera {
@@ -29,18 +70,23 @@ impl Default for Camera {
             pitch_degrees: 30.0,
             fov_degrees: 60.0,
             aspect: 16.0 / 9.0,
+            far: None,
+            path: None,
         }
     }
 }
 
-/// Allowed pitches: looking at the patch from above the horizon, up to straight down.
-const PITCH: (f32, f32) = (1.0, 90.0);
-/// Allowed fields of view.
-const FOV: (f32, f32) = (1.0, 170.0);
-/// Allowed aspect ratios.
-const ASPECT: (f32, f32) = (0.1, 10.0);
-/// Heights above this, in world units, are typos rather than cameras.
+/// Most pitch: straight down (a camera at or above the horizon never sees the sea).
+const MAX_PITCH: f32 = 90.0;
+/// Fields of view stay below this (a half angle of 90° has no tangent).
+const MAX_FOV: f32 = 180.0;
+/// Most aspect ratio.
+const MAX_ASPECT: f32 = 10.0;
+/// Heights, far distances and path radii above this, in world units, are typos rather than
+/// cameras (and would leave an f32 vertex no fractional digits).
 const MAX_HEIGHT: f32 = 1e6;
+/// The default far distance, in patch widths.
+const FAR_PATCHES: f32 = 10.0;
 /// How far the waves may rise above the still sea when the default height frames the patch,
 /// as a fraction of the patch's width.
 const WAVE_ROOM: f32 = 0.1;
@@ -48,18 +94,20 @@ const WAVE_ROOM: f32 = 0.1;
 impl Camera {
     /// Checks every field; the message names it and its allowed range.
     pub fn validate(&self) -> Result<(), InputError> {
-        let within = |field: &str, v: f32, (lo, hi): (f32, f32)| {
-            if v.is_finite() && (lo..=hi).contains(&v) {
+        let above_zero = |field: &str, v: f32, max: f32, inclusive: bool| {
+            let below = if inclusive { v <= max } else { v < max };
+            if v.is_finite() && v > 0.0 && below {
                 Ok(())
             } else {
+                let at_most = if inclusive { "at most" } else { "below" };
                 Err(InputError(format!(
-                    "camera.{field}: must be {lo} to {hi}, got {v}"
+                    "camera.{field}: must be above 0 and {at_most} {max}, got {v}"
                 )))
             }
         };
-        within("pitch_degrees", self.pitch_degrees, PITCH)?;
-        within("fov_degrees", self.fov_degrees, FOV)?;
-        within("aspect", self.aspect, ASPECT)?;
+        above_zero("pitch_degrees", self.pitch_degrees, MAX_PITCH, true)?;
+        above_zero("fov_degrees", self.fov_degrees, MAX_FOV, false)?;
+        above_zero("aspect", self.aspect, MAX_ASPECT, true)?;
         if let Some(h) = self.height {
             if !(h.is_finite() && h > 0.0 && h <= MAX_HEIGHT) {
                 return Err(InputError(format!(
@@ -67,7 +115,48 @@ impl Camera {
                 )));
             }
         }
+        if let Some(far) = self.far {
+            if !(far.is_finite() && far > 0.0 && far <= MAX_HEIGHT) {
+                return Err(InputError(format!(
+                    "camera.far: must be above 0 and at most {MAX_HEIGHT}, or null for {FAR_PATCHES} patch widths, got {far}"
+                )));
+            }
+        }
+        if let Some(path) = self.path {
+            let r = path.radius;
+            if !(r.is_finite() && (0.0..=MAX_HEIGHT).contains(&r)) {
+                return Err(InputError(format!(
+                    "camera.path.radius: must be 0 to {MAX_HEIGHT}, got {r}"
+                )));
+            }
+            above_zero("path.period_seconds", path.period_seconds, MAX_HEIGHT, true)?;
+        }
         Ok(())
+    }
+
+    /// Where the camera stands at frame time `t` and how it is turned, for `grid`: the still
+    /// camera's eye moved along the path, looking the same way.
+    pub fn view_at(&self, grid: Grid, t: f32) -> View {
+        let pitch = self.pitch_degrees.to_radians();
+        let (sin_p, cos_p) = pitch.sin_cos();
+        let mut eye = self.eye(grid);
+        if let Some(path) = self.path {
+            // The angle in f64 from the fraction of a turn, so a late frame is as exact as
+            // the first.
+            let turns = t as f64 / path.period_seconds as f64;
+            let (s, c) = (std::f64::consts::TAU * (turns - turns.floor())).sin_cos();
+            let r = path.radius as f64;
+            eye += Vec3::new((r * (c - 1.0)) as f32, (r * s) as f32, 0.0);
+        }
+        View {
+            eye,
+            forward: Vec3::new(0.0, cos_p, -sin_p),
+            right: Vec3::X,
+            up: Vec3::new(0.0, sin_p, cos_p),
+            tan_half_fov: (self.fov_degrees.to_radians() / 2.0).tan(),
+            aspect: self.aspect,
+            far: self.far.unwrap_or(FAR_PATCHES * patch(grid).1),
+        }
     }
 
     /// The camera's position for `grid`: on the line through the patch's centre at the pitch,
@@ -169,6 +258,32 @@ mod tests {
     }
 
     #[test]
+    fn a_still_camera_s_view_stands_at_its_eye_and_a_path_returns_after_a_period() {
+        let grid = Grid::new(33, 1.0).unwrap();
+        let still = Camera::default();
+        assert_eq!(still.view_at(grid, 7.5).eye, still.eye(grid));
+        assert_eq!(still.view_at(grid, 0.0).far, 320.0, "10 patch widths");
+        let moving = Camera {
+            path: Some(CameraPath {
+                radius: 5.0,
+                period_seconds: 4.0,
+            }),
+            ..still
+        };
+        let at = |t: f32| moving.view_at(grid, t).eye;
+        assert_eq!(at(0.0), still.eye(grid));
+        assert!(
+            (at(2.0) - still.eye(grid)).length() > 9.99,
+            "half a turn: the diameter"
+        );
+        assert!((at(4.0) - at(0.0)).length() < 1e-4);
+        assert_eq!(
+            moving.view_at(grid, 1.0).forward,
+            still.view_at(grid, 1.0).forward
+        );
+    }
+
+    #[test]
     fn every_field_out_of_range_is_named() {
         let bad = [
             (
@@ -221,6 +336,35 @@ mod tests {
                 },
             ),
         ];
+        let bad = bad.into_iter().chain([
+            (
+                "far",
+                Camera {
+                    far: Some(0.0),
+                    ..Camera::default()
+                },
+            ),
+            (
+                "path.radius",
+                Camera {
+                    path: Some(CameraPath {
+                        radius: -1.0,
+                        period_seconds: 1.0,
+                    }),
+                    ..Camera::default()
+                },
+            ),
+            (
+                "path.period_seconds",
+                Camera {
+                    path: Some(CameraPath {
+                        radius: 1.0,
+                        period_seconds: f32::NAN,
+                    }),
+                    ..Camera::default()
+                },
+            ),
+        ]);
         for (field, c) in bad {
             let e = c.validate().unwrap_err().0;
             assert!(e.starts_with(&format!("camera.{field}: must be")), "{e}");

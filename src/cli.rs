@@ -211,9 +211,75 @@ pub struct RunArgs {
     /// Calibration and noise handling.
     #[command(flatten)]
     pub noise: NoiseArgs,
+    /// The camera (the `render` workload and the projected grid).
+    #[command(flatten)]
+    pub camera: CameraArgs,
     /// Waiting for other runs on the same cores.
     #[command(flatten)]
     pub wait: WaitArgs,
+}
+
+/// Flags that set the camera (config key `camera`), which the `render` workload looks through
+/// and the projected grid is cast from; each overrides the key of the same name.
+#[derive(Clone, Debug, Default, PartialEq, Args)]
+pub struct CameraArgs {
+    /// Camera height above the still sea (`camera.height`; default: framing the patch).
+    #[arg(long, allow_negative_numbers = true)]
+    pub camera_height: Option<f32>,
+    /// Degrees below the horizon the camera looks, above 0 and at most 90
+    /// (`camera.pitch_degrees`, default 30).
+    #[arg(long, allow_negative_numbers = true)]
+    pub pitch: Option<f32>,
+    /// Vertical field of view in degrees, above 0 and below 180 (`camera.fov_degrees`,
+    /// default 60).
+    #[arg(long, allow_negative_numbers = true)]
+    pub fov: Option<f32>,
+    /// Image width over height (`camera.aspect`, default 16/9).
+    #[arg(long, allow_negative_numbers = true)]
+    pub aspect: Option<f32>,
+    /// How far the projected grid reaches (`camera.far`; default 10 × the patch's width).
+    #[arg(long, allow_negative_numbers = true)]
+    pub far: Option<f32>,
+    /// Radius of the circle the camera travels (`camera.path.radius`; default: still).
+    #[arg(long, allow_negative_numbers = true)]
+    pub path_radius: Option<f32>,
+    /// Seconds of frame time per turn of the path (`camera.path.period_seconds`, default 30).
+    #[arg(long, requires = "path_radius", allow_negative_numbers = true)]
+    pub path_period: Option<f32>,
+}
+
+/// Seconds per turn of a camera path given by its radius alone.
+const DEFAULT_PATH_PERIOD: f32 = 30.0;
+
+impl CameraArgs {
+    /// The camera with these flags applied (validated by the caller).
+    pub fn apply(&self, camera: &mut crate::camera::Camera) {
+        if let Some(h) = self.camera_height {
+            camera.height = Some(h);
+        }
+        if let Some(p) = self.pitch {
+            camera.pitch_degrees = p;
+        }
+        if let Some(f) = self.fov {
+            camera.fov_degrees = f;
+        }
+        if let Some(a) = self.aspect {
+            camera.aspect = a;
+        }
+        if let Some(f) = self.far {
+            camera.far = Some(f);
+        }
+        if let Some(radius) = self.path_radius {
+            let period_seconds = self
+                .path_period
+                .or(camera.path.map(|p| p.period_seconds))
+                .unwrap_or(DEFAULT_PATH_PERIOD);
+            camera.path = Some(crate::camera::CameraPath {
+                radius,
+                period_seconds,
+            });
+        }
+    }
 }
 
 /// Whether to wait for another oceanbench run measuring on the same cores.
@@ -420,7 +486,7 @@ pub struct DoctorArgs {
 /// Flags of `oceanbench mesh`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "Examples:\n  oceanbench mesh --size 32 --time 10 --waves my-waves.json --out frame.csv\n  oceanbench mesh --ocean fft --size 256 --time 10 --out fft.csv"
+    after_help = "Examples:\n  oceanbench mesh --size 32 --time 10 --waves my-waves.json --out frame.csv\n  oceanbench mesh --ocean fft --size 256 --time 10 --out fft.csv\n  oceanbench mesh --grid projected --size 64 --time 2 --camera-height 20 --pitch 20 --out projected.csv"
 )]
 pub struct MeshArgs {
     /// Mesh size N (N×N vertices).
@@ -447,6 +513,12 @@ pub struct MeshArgs {
     /// Which kernel computes the surface.
     #[arg(long, value_enum, default_value = "reference")]
     pub kernel: crate::ocean::Kernel,
+    /// Where the vertices lie: the regular patch, or projected from the camera.
+    #[arg(long, value_enum, default_value = "regular")]
+    pub grid: crate::ocean::GridKind,
+    /// The camera the projected grid is cast from.
+    #[command(flatten)]
+    pub camera: CameraArgs,
     /// Output CSV file.
     #[arg(long)]
     pub out: PathBuf,

@@ -18,6 +18,7 @@ use crate::sched::TrialNoise;
 use crate::slow_trials::{self, TrialFacts};
 use crate::sync::{Policy, SyncMethod};
 use crate::workload::{Calibration, WorkloadKind};
+use itertools::Itertools;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, SystemTime};
@@ -215,7 +216,7 @@ impl Sweep {
         })
     }
 
-    /// Finds each size's balance point for the sweep's first DP cell of that size (the first
+    /// Finds each size's (and grid's) balance point for the sweep's first DP cell of that size (the first
     /// listed value of every other dimension), reporting after each; a search that cannot
     /// bracket a balance point is recorded as a failure, not the end of the sweep.
     fn find_balance_points(
@@ -225,11 +226,13 @@ impl Sweep {
     ) -> Result<(), LoopError> {
         let axes = &self.results.config.axes;
         let mut keys: Vec<CellKey> = Vec::new();
-        for &size in &axes.sizes {
+        // Each grid its own search: the projected grid's balance is the figure its study is
+        // for (one grid listed: one search per size, as before).
+        for (&size, &grid) in axes.sizes.iter().cartesian_product(&axes.grid) {
             let first = axes
                 .cells()
                 .into_iter()
-                .find(|k| k.size == size && k.mode == Mode::Dp);
+                .find(|k| k.size == size && k.grid == grid && k.mode == Mode::Dp);
             if let Some(k) = first.and_then(|k| k.with(Dim::Workload, Value::Count(0))) {
                 keys.push(k);
             }
@@ -423,6 +426,7 @@ impl Sweep {
         let config = &self.results.config;
         LoopSpec {
             grid: Grid::new(key.size, config.spacing).expect("validated"),
+            grid_kind: key.grid,
             ocean: key.ocean,
             params: self.params.clone(),
             normals: key.normals,

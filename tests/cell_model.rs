@@ -43,6 +43,11 @@ fn case(
         Dim::Normals => (json!("neighbors"), Some(json!("analytic")), json!({})),
         Dim::Ocean => (json!("sines"), Some(json!("fft")), json!({})),
         Dim::Kernel => (json!("reference"), Some(json!("fast")), json!({})),
+        Dim::Grid => (
+            json!("regular"),
+            Some(json!("projected")),
+            json!({"normals": ["analytic"]}),
+        ),
         #[allow(unreachable_patterns)]
         _ => return None,
     };

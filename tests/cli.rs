@@ -128,11 +128,11 @@ fn bad_configs_exit_2_naming_the_field() {
         ),
         (
             r#"{"camera": {"pitch_degrees": 0}}"#,
-            vec!["camera.pitch_degrees", "1 to 90"],
+            vec!["camera.pitch_degrees", "above 0 and at most 90"],
         ),
         (
             r#"{"camera": {"fov_degrees": 200}}"#,
-            vec!["camera.fov_degrees", "1 to 170"],
+            vec!["camera.fov_degrees", "above 0 and below 180"],
         ),
         (r#"{"camera": {"aspect": -1}}"#, vec!["camera.aspect"]),
         (r#"{"camera": {"height": 0}}"#, vec!["camera.height"]),

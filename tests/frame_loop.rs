@@ -4,7 +4,7 @@
 use oceanbench::affinity;
 use oceanbench::camera::Camera;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
-use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, OceanParams};
+use oceanbench::ocean::{Grid, GridKind, Kernel, Mesh, NormalMethod, OceanKind, OceanParams};
 use oceanbench::sync::{Policy, SyncMethod};
 use oceanbench::workload::WorkloadKind;
 use std::time::Duration;
@@ -15,6 +15,7 @@ fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMetho
     let cores = affinity::allowed_cores();
     LoopSpec {
         grid: Grid::new(9, 0.75).unwrap(),
+        grid_kind: GridKind::Regular,
         ocean: OceanKind::Sines,
         params: OceanParams::default(),
         normals,
@@ -706,5 +707,91 @@ fn render_draws_the_same_vertex_buffer_in_every_mode_depth_consumption_method_an
             let (drawn, _, _) = render(serial(), last + 1);
             assert_eq!(digest, drawn, "{what}: the buffer of mesh {last}");
         }
+    }
+}
+
+/// The projected grid, with a camera on a path so that every frame's vertices move: every mode,
+/// method, helper count (1-3), depth and consumption, a helper per frame, and `latest`, give the
+/// serial meshes bit for bit, with either kernel.
+#[test]
+fn projected_meshes_are_bit_identical_in_every_mode_method_depth_and_helper_count() {
+    const FEW: u64 = 24;
+    let projected = |mode, sync, threading| {
+        let mut s = spec(mode, sync, threading, NormalMethod::Analytic);
+        s.grid_kind = GridKind::Projected;
+        s.camera = Camera {
+            height: Some(5.0),
+            pitch_degrees: 20.0,
+            path: Some(oceanbench::camera::CameraPath {
+                radius: 3.0,
+                period_seconds: 0.25,
+            }),
+            ..Camera::default()
+        };
+        s
+    };
+    let collect = |s: &LoopSpec| {
+        let mut seen = Vec::new();
+        frame_loop::run(s, &Budget::exact(FEW), |k, mesh| {
+            seen.push((k, mesh.clone()))
+        })
+        .unwrap_or_else(|e| panic!("{:?} {:?} x{}: {e}", s.mode, s.sync, s.helpers()));
+        seen
+    };
+    let consumes = [Consume::Copy, Consume::Read, Consume::Handle];
+    for kernel in [Kernel::Reference, Kernel::Fast] {
+        let mut serial = projected(Mode::Serial, SyncMethod::Atomic, Threading::Pool);
+        serial.kernel = kernel;
+        let serial = collect(&serial);
+        assert_ne!(serial[0].1.x, serial[1].1.x, "the grid follows the camera");
+        let mut runs = 0;
+        for mode in modes() {
+            for (m, sync) in SyncMethod::of_policy(Policy::Fifo).enumerate() {
+                for helpers in 1..=3 {
+                    let mut s = projected(mode, sync, Threading::Pool);
+                    s.kernel = kernel;
+                    s.helper_cores = with_helpers(mode, helpers);
+                    s.depth = 1 + (m + helpers) % frame_loop::MAX_DEPTH;
+                    s.consume = consumes[(m + helpers) % consumes.len()];
+                    let what = format!(
+                        "{kernel:?} {mode:?} {sync:?} x{helpers} d{} {:?}",
+                        s.depth, s.consume
+                    );
+                    let got = collect(&s);
+                    let indices: Vec<u64> = got.iter().map(|(k, _)| *k).collect();
+                    assert_eq!(indices, (0..FEW).collect::<Vec<_>>(), "{what}");
+                    for ((k, mesh), (_, smesh)) in got.iter().zip(&serial) {
+                        assert!(mesh == smesh, "{what}: frame {k} differs");
+                    }
+                    runs += 1;
+                }
+            }
+            let mut s = projected(mode, SyncMethod::Atomic, Threading::Spawn);
+            s.kernel = kernel;
+            assert!(collect(&s) == serial, "{kernel:?} {mode:?} spawn");
+            for sync in SyncMethod::of_policy(Policy::Latest) {
+                let mut s = projected(mode, sync, Threading::Pool);
+                (s.kernel, s.policy) = (kernel, Policy::Latest);
+                let mut stepper = oceanbench::projected::stepper(
+                    s.grid_kind,
+                    s.ocean.model(),
+                    s.grid,
+                    &s.params,
+                    s.normals,
+                    s.kernel,
+                    s.camera,
+                )
+                .unwrap();
+                let mut want = s.ocean.model().mesh(s.grid);
+                for (k, mesh) in collect(&s) {
+                    stepper.step((k as f64 * s.time_step) as f32, &mut want);
+                    assert!(
+                        mesh == want,
+                        "{kernel:?} {mode:?} latest {sync:?}: frame {k}"
+                    );
+                }
+            }
+        }
+        assert!(runs > 0);
     }
 }

@@ -11,7 +11,7 @@
 use oceanbench::affinity;
 use oceanbench::camera::Camera;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
-use oceanbench::ocean::{Grid, Kernel, NormalMethod, OceanKind, OceanParams};
+use oceanbench::ocean::{Grid, GridKind, Kernel, NormalMethod, OceanKind, OceanParams};
 use oceanbench::sync::{Policy, SyncMethod};
 use oceanbench::workload::WorkloadKind;
 use std::time::Duration;
@@ -36,6 +36,7 @@ fn a_million_frames_per_method_none_lost() {
             for sync in SyncMethod::of_policy(Policy::Fifo) {
                 let spec = LoopSpec {
                     grid: Grid::new(2, 1.0).unwrap(),
+                    grid_kind: GridKind::Regular,
                     ocean: OceanKind::Sines,
                     params: OceanParams::default(),
                     normals: NormalMethod::Analytic,

@@ -5,7 +5,9 @@
 use oceanbench::affinity;
 use oceanbench::camera::Camera;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
-use oceanbench::ocean::{FftParams, Grid, Kernel, Mesh, NormalMethod, OceanKind, OceanParams};
+use oceanbench::ocean::{
+    FftParams, Grid, GridKind, Kernel, Mesh, NormalMethod, OceanKind, OceanParams,
+};
 use oceanbench::sync::{Policy, SyncMethod};
 use oceanbench::workload::{SprayParams, WorkloadKind};
 use std::time::Duration;
@@ -18,6 +20,7 @@ fn spec(mode: Mode, sync: SyncMethod, helpers: usize) -> LoopSpec {
     let helper = if mode == Mode::Dp { cores[1] } else { cores[0] };
     LoopSpec {
         grid: Grid::new(32, 1.0).unwrap(),
+        grid_kind: GridKind::Regular,
         ocean: OceanKind::Fft,
         params: OceanParams {
             fft: FftParams {

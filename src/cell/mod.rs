@@ -15,7 +15,7 @@ pub use declare::{DimValue, Value};
 
 use crate::frame_loop::{self, Consume, Mode, Threading, MAX_DEPTH, MAX_HELPERS};
 use crate::input::InputError;
-use crate::ocean::{mesh::MAX_SIZE, Kernel, Model, NormalMethod, OceanKind};
+use crate::ocean::{mesh::MAX_SIZE, GridKind, Kernel, Model, NormalMethod, OceanKind};
 use crate::sync::{Policy, SyncMethod};
 use crate::workload::WorkloadKind;
 use declare::{dim_values, dimensions};
@@ -30,6 +30,7 @@ dim_values!(
     NormalMethod,
     OceanKind,
     Kernel,
+    GridKind,
     WorkloadKind
 );
 
@@ -146,6 +147,15 @@ dimensions! {
         row: true,
         label: "{}",
         title: "{} kernel",
+    }
+    /// Where the mesh's vertices lie: the regular patch, or projected from the camera.
+    Grid(grid: GridKind) {
+        config: grid = [GridKind::Regular],
+        cells: all,
+        row: true,
+        label: "{}",
+        title: "{} grid",
+        quiet: GridKind::Regular,
     }
 }
 
@@ -265,6 +275,12 @@ impl CellKey {
     pub fn coherent(&self) -> Result<(), InputError> {
         check_offers(self.ocean, self.ocean.model(), self.kernel, self.normals)?;
         self.workload_kind.check_ocean(self.ocean)?;
+        crate::projected::check(
+            self.grid,
+            self.ocean.name(),
+            self.ocean.model(),
+            self.normals,
+        )?;
         match (
             self.policy,
             self.sync,

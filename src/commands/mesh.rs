@@ -48,6 +48,10 @@ pub(super) fn mesh(args: MeshArgs) -> Result<(), CliError> {
     let model = args.ocean.model();
     // The model's own size rule first: its message names the sizes it takes.
     model.check(args.size, args.normals)?;
+    crate::projected::check(args.grid, args.ocean.name(), model, args.normals)?;
+    let mut camera = crate::camera::Camera::default();
+    args.camera.apply(&mut camera);
+    camera.validate()?;
     let grid = Grid::new(args.size, args.spacing)?;
     if !args.time.is_finite() {
         return Err(InputError(format!(
@@ -65,7 +69,15 @@ pub(super) fn mesh(args: MeshArgs) -> Result<(), CliError> {
         None => FftParams::default(),
     };
     let params = OceanParams { waves, fft };
-    let mut ocean = model.prepare(grid, &params, args.normals, args.kernel)?;
+    let mut ocean = crate::projected::stepper(
+        args.grid,
+        model,
+        grid,
+        &params,
+        args.normals,
+        args.kernel,
+        camera,
+    )?;
     let mut mesh = model.mesh(grid);
     ocean.step(args.time, &mut mesh);
     let file = std::fs::File::create(&args.out)

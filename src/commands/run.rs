@@ -73,6 +73,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
         ..SweepConfig::default()
     };
     args.noise.apply(&mut config);
+    args.camera.apply(&mut config.camera);
     if let Some(us) = args.workload_micros {
         config.workload_levels = vec![Level::micros(us)];
         config.axes.workloads = vec![0];

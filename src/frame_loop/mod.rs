@@ -24,7 +24,7 @@ use crate::affinity::{self, Pin};
 use crate::camera::Camera;
 use crate::input::InputError;
 use crate::measure::Trial;
-use crate::ocean::{Grid, Kernel, Mesh, Model, NormalMethod, OceanKind, OceanParams};
+use crate::ocean::{Grid, GridKind, Kernel, Mesh, Model, NormalMethod, OceanKind, OceanParams};
 use crate::sched::{self, ThreadCounters, ThreadNoise, TrialNoise};
 use crate::sync::{Policy, SyncMethod};
 use crate::workload::{SprayParams, Work, WorkSpec, WorkloadKind};
@@ -69,6 +69,8 @@ crate::named! {
 pub struct LoopSpec {
     /// The mesh grid.
     pub grid: Grid,
+    /// Where its vertices lie: the regular patch, or projected from `camera`.
+    pub grid_kind: GridKind,
     /// Which ocean model the helper computes.
     pub ocean: OceanKind,
     /// The models' parameters (the sines' waves, the FFT ocean's spectrum).
@@ -89,7 +91,7 @@ pub struct LoopSpec {
     pub workload_kind: WorkloadKind,
     /// The main thread's work per frame, in the kind's unit ([`WorkloadKind::unit`]).
     pub workload_amount: u64,
-    /// The camera, for workloads that look at the mesh.
+    /// The camera, for workloads that look at the mesh and for the projected grid.
     pub camera: Camera,
     /// The spray's parameters, for the `spray` workload.
     pub spray: SprayParams,
@@ -121,6 +123,12 @@ impl LoopSpec {
 
     /// Checks what the loop needs: see [`check_helpers`] and [`check_depth`].
     pub fn check(&self) -> Result<(), InputError> {
+        crate::projected::check(
+            self.grid_kind,
+            self.ocean.name(),
+            self.ocean.model(),
+            self.normals,
+        )?;
         if self.mode == Mode::Serial {
             return Ok(());
         }
@@ -493,10 +501,15 @@ where
     F: FnMut(u64, &Mesh) + Send,
 {
     spec.check()?;
-    let ocean = spec
-        .ocean
-        .model()
-        .prepare(spec.grid, &spec.params, spec.normals, spec.kernel)?;
+    let ocean = crate::projected::stepper(
+        spec.grid_kind,
+        spec.ocean.model(),
+        spec.grid,
+        &spec.params,
+        spec.normals,
+        spec.kernel,
+        spec.camera,
+    )?;
     std::thread::scope(|s| {
         std::thread::Builder::new()
             .name("ocean-main".into())

@@ -11,7 +11,7 @@ pub mod waves;
 
 pub use fft::FftOcean;
 pub use mesh::{Grid, Mesh, MeshRows};
-pub use model::{Kernel, Model, OceanParams, Stepper};
+pub use model::{GridKind, Kernel, Model, OceanParams, Stepper};
 pub use normals::NormalMethod;
 pub use phillips::FftParams;
 pub use waves::{Wave, WaveSet};

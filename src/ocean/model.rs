@@ -29,6 +29,17 @@ crate::named! {
     }
 }
 
+crate::named! {
+    /// Where a mesh's vertices lie on the sea plane.
+    pub enum GridKind {
+        /// The paper's N×N grid over a fixed patch.
+        Regular,
+        /// An N×N grid regular in screen space, projected from the camera onto the sea plane
+        /// (the projected grid of Johanson's thesis): the mesh follows the camera.
+        Projected,
+    }
+}
+
 /// Refuses a split among helpers for normals other than `analytic`: face normals at a band's
 /// edge need the neighbouring band's heights, which another helper is still computing.
 pub fn only_analytic_splits(normals: NormalMethod) -> Result<(), InputError> {
@@ -60,6 +71,27 @@ pub trait Model: Sync {
 
     /// The kernel and normals whose step is the yardstick `step_fraction` levels are given in.
     fn yardstick(&self) -> (Kernel, NormalMethod);
+
+    /// The grids it runs on: every model runs on the regular grid; one that can be evaluated at
+    /// any point of the sea plane also runs on the projected grid.
+    fn grids(&self) -> &'static [GridKind] {
+        &[GridKind::Regular]
+    }
+
+    /// Builds the per-run state of a stepper that fills each vertex of a band at the x, y the
+    /// band already holds (placed there by the projected grid), with `analytic` normals; only
+    /// for models whose [`Model::grids`] list [`GridKind::Projected`].
+    fn prepare_at_points(
+        &self,
+        grid: Grid,
+        params: &OceanParams,
+        kernel: Kernel,
+    ) -> Result<Box<dyn Stepper>, InputError> {
+        let _ = (grid, params, kernel);
+        Err(InputError(
+            "grid: this ocean runs on the `regular` grid only".into(),
+        ))
+    }
 
     /// A blank mesh with the optional fields this model fills (none unless it says so).
     fn mesh(&self, grid: Grid) -> Mesh {

@@ -5,7 +5,7 @@ pub mod fast;
 pub mod reference;
 
 use super::mesh::{Grid, Mesh, MeshRows};
-use super::model::{Kernel, Model, OceanParams, Stepper};
+use super::model::{GridKind, Kernel, Model, OceanParams, Stepper};
 use super::normals::{self, FaceNormals, NormalMethod};
 use super::waves::WaveSet;
 use crate::input::InputError;
@@ -46,6 +46,31 @@ impl Model for Sines {
         Ok(())
     }
 
+    /// Heights and slopes are functions of any point's x, y and t.
+    fn grids(&self) -> &'static [GridKind] {
+        &[GridKind::Regular, GridKind::Projected]
+    }
+
+    /// The reference kernel reads each vertex's x, y already; the fast kernel's phase tables
+    /// assume a regular grid, so it runs its per-vertex path (`fast::points`).
+    fn prepare_at_points(
+        &self,
+        grid: Grid,
+        params: &OceanParams,
+        kernel: Kernel,
+    ) -> Result<Box<dyn Stepper>, InputError> {
+        let mut state = SinesState::new(
+            grid,
+            params.waves.clone(),
+            NormalMethod::Analytic,
+            Kernel::Reference,
+        );
+        state.kernel = kernel;
+        state.points =
+            (kernel == Kernel::Fast).then(|| fast::points::PointsKernel::new(&params.waves));
+        Ok(Box::new(state))
+    }
+
     /// The paper's build: the reference kernel with the neighbour list.
     fn yardstick(&self) -> (Kernel, NormalMethod) {
         (Kernel::Reference, NormalMethod::Neighbors)
@@ -78,6 +103,8 @@ pub struct SinesState {
     faces: Option<FaceNormals>,
     fast: Option<fast::FastKernel>,
     stencil: Option<fast::StencilNormals>,
+    /// The fast kernel at scattered points, which replaces `fast` on the projected grid.
+    points: Option<fast::points::PointsKernel>,
 }
 
 impl SinesState {
@@ -96,15 +123,17 @@ impl SinesState {
             faces,
             fast,
             stencil,
+            points: None,
         }
     }
 
     /// The kernel's part of a step: heights, and the normals too when they are analytic.
     fn heights(&mut self, t: f32, rows: MeshRows<'_>) {
         let analytic = self.normals == NormalMethod::Analytic;
-        match self.kernel {
-            Kernel::Reference => reference::step_rows(&self.waves, rows, t, analytic),
-            Kernel::Fast => {
+        match (self.kernel, &mut self.points) {
+            (Kernel::Reference, _) => reference::step_rows(&self.waves, rows, t, analytic),
+            (Kernel::Fast, Some(points)) => points.step_rows(rows, t),
+            (Kernel::Fast, None) => {
                 let fast = self.fast.as_mut().expect("built for Kernel::Fast");
                 fast.step_rows(rows, t, analytic);
             }

@@ -4,6 +4,7 @@
 pub mod fused;
 pub mod math;
 pub mod phase;
+pub mod points;
 pub mod simd;
 pub mod stencil;
 mod vector;

@@ -75,6 +75,20 @@ impl WaveConsts {
     }
 }
 
+impl WaveConsts {
+    /// The half angle θ = S/2 + π/4 of a point (x, y) at time t, in turns of π, as
+    /// `a·x + b·y + c` with `[a, b, c]`: the time phase and the π/4 reduced in f64 first, so
+    /// only the point's own part is rounded to f32 (the projected grid's per-vertex path).
+    pub fn point_turns(&self, t: f64) -> [f32; 3] {
+        let c = self.time_turns * t + 0.25;
+        [
+            self.col_turns as f32,
+            self.row_turns as f32,
+            (c - c.floor()) as f32,
+        ]
+    }
+}
+
 /// Half angle π·frac(turns): the reduction to [0, π) flips the sign of both sin θ and cos θ at
 /// most, which leaves sin²θ and sin θ·cos θ (all the kernel uses) unchanged.
 fn half_angle(turns: f64) -> f64 {

@@ -248,7 +248,7 @@ fn heights_gen<const F: bool>(
 /// Adds one wave's height and slope (cos S = 2·sin θ·cos θ) to a row.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn full_int<const F: bool, const E: u32>(
+pub(super) fn full_int<const F: bool, const E: u32>(
     sa: &[f32],
     ca: &[f32],
     sb: f32,
@@ -274,7 +274,7 @@ fn full_int<const F: bool, const E: u32>(
 /// `full_int` for any exponent e = 2k − 2.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn full_gen<const F: bool>(
+pub(super) fn full_gen<const F: bool>(
     sa: &[f32],
     ca: &[f32],
     sb: f32,

@@ -1,0 +1,158 @@
+//! The projected grid (Johanson's "projected grid concept", the grid of Intel's *Ocean Fog*
+//! demo): an N×N grid regular in screen space, each vertex its camera ray's intersection with
+//! the sea's base plane z = 0, then displaced by the ocean model evaluated there. The mesh
+//! covers only what the camera sees and follows it along its path.
+//!
+//! The clamping rule: a ray that points at or above the horizon, or meets the plane farther
+//! than `far` (horizontally) from the eye, ends at the point of the plane at horizontal
+//! distance `far` from the eye in the ray's horizontal direction. Rays that meet the plane at
+//! exactly `far` give the same point either way, so the far line is continuous.
+//!
+//! Vertex (i, j) looks through the image point (u, v) = (−1 + 2j/(N−1), −1 + 2i/(N−1)): row 0
+//! is the bottom of the image, the nearest sea, and the rows go away from the camera, so the
+//! grid's triangles keep facing up as on the regular grid.
+
+use crate::camera::{Camera, View};
+use crate::input::InputError;
+use crate::ocean::{
+    Grid, GridKind, Kernel, Mesh, MeshRows, Model, NormalMethod, OceanParams, Stepper,
+};
+
+/// Refuses what the projected grid cannot run: normals other than `analytic` (face normals
+/// of a moving grid would need its neighbours' positions, and the stencil a regular spacing),
+/// and a model that cannot be evaluated at any point of the plane.
+pub fn check(
+    grid: GridKind,
+    ocean: &str,
+    model: &dyn Model,
+    normals: NormalMethod,
+) -> Result<(), InputError> {
+    if grid == GridKind::Regular {
+        return Ok(());
+    }
+    if !model.grids().contains(&grid) {
+        return Err(InputError(format!(
+            "grid: the `{ocean}` ocean runs on the `regular` grid only, not `{grid}`"
+        )));
+    }
+    if normals != NormalMethod::Analytic {
+        return Err(InputError(format!(
+            "normals: the `{grid}` grid takes `analytic` normals only, not `{normals}`"
+        )));
+    }
+    Ok(())
+}
+
+/// The stepper of a run on `kind` of grid: the model's own on the regular grid; on the
+/// projected grid, the model evaluated at each vertex after the camera has placed it.
+#[allow(clippy::too_many_arguments)]
+pub fn stepper(
+    kind: GridKind,
+    model: &dyn Model,
+    grid: Grid,
+    params: &OceanParams,
+    normals: NormalMethod,
+    kernel: Kernel,
+    camera: Camera,
+) -> Result<Box<dyn Stepper>, InputError> {
+    match kind {
+        GridKind::Regular => model.prepare(grid, params, normals, kernel),
+        GridKind::Projected => Ok(Box::new(Projected {
+            camera,
+            surface: model.prepare_at_points(grid, params, kernel)?,
+        })),
+    }
+}
+
+/// The projected grid's stepper: places a band's vertices from the camera at time t, then
+/// lets the model fill heights and normals there.
+#[derive(Debug)]
+pub struct Projected {
+    camera: Camera,
+    surface: Box<dyn Stepper>,
+}
+
+impl Stepper for Projected {
+    fn step(&mut self, t: f32, mesh: &mut Mesh) {
+        let n = mesh.grid.n;
+        self.step_rows(t, mesh.rows_mut(0..n));
+    }
+
+    /// Each vertex depends on its own (i, j), t and the camera alone, so a band is
+    /// bit-identical to the same rows of a whole-mesh step.
+    fn step_rows(&mut self, t: f32, mut rows: MeshRows<'_>) {
+        place(&self.camera.view_at(rows.grid, t), &mut rows);
+        self.surface.step_rows(t, rows);
+    }
+
+    fn boxed_clone(&self) -> Box<dyn Stepper> {
+        Box::new(Projected {
+            camera: self.camera,
+            surface: self.surface.boxed_clone(),
+        })
+    }
+}
+
+/// Writes x, y of a band's vertices: each the intersection of its ray with z = 0, clamped as
+/// the module says. The same IEEE operations on every instruction set (no fused multiply-add),
+/// so helpers agree bit for bit whichever set they run.
+pub fn place(view: &View, rows: &mut MeshRows<'_>) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU has AVX-512F, checked above.
+            return unsafe { place_avx512(view, rows) };
+        }
+        if is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2, checked above.
+            return unsafe { place_avx2(view, rows) };
+        }
+    }
+    place_rows(view, rows)
+}
+
+/// `place_rows` compiled for AVX-512: the row loop's division and square root run 16 wide.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2")]
+fn place_avx512(view: &View, rows: &mut MeshRows<'_>) {
+    place_rows(view, rows)
+}
+
+/// `place_rows` compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn place_avx2(view: &View, rows: &mut MeshRows<'_>) {
+    place_rows(view, rows)
+}
+
+#[inline(always)]
+fn place_rows(view: &View, rows: &mut MeshRows<'_>) {
+    let n = rows.grid.n;
+    let step = 2.0 / (n - 1) as f32;
+    let tan_y = view.tan_half_fov;
+    let tan_x = tan_y * view.aspect;
+    let (eye, far) = (view.eye, view.far);
+    let xs = rows.x.chunks_exact_mut(n).zip(rows.y.chunks_exact_mut(n));
+    // The image's right, scaled to the half width, component by component so the row loop
+    // is plain f32 arithmetic for LLVM to vectorise.
+    let [rx, ry, rz] = (view.right * tan_x).to_array();
+    for (r, (xs, ys)) in xs.enumerate() {
+        let v = -1.0 + (rows.first_row + r) as f32 * step;
+        let [bx, by, bz] = (view.forward + view.up * (v * tan_y)).to_array();
+        // Branch-free: a ray meets the plane at s_hit along it (never at or above the
+        // horizon) and reaches the far line at s_far; it stops at the nearer, and
+        // s_hit > s_far is exactly "meets the plane beyond far".
+        for (j, (x, y)) in xs.iter_mut().zip(ys.iter_mut()).enumerate() {
+            let u = -1.0 + j as f32 * step;
+            let (dx, dy, dz) = (bx + u * rx, by + u * ry, bz + u * rz);
+            let s_hit = if dz < 0.0 { eye.z / -dz } else { f32::INFINITY };
+            let s_far = far / (dx * dx + dy * dy).sqrt();
+            // A ray straight down has no horizontal direction (s_far infinite) but always
+            // meets the plane; the bound only keeps 0 × ∞ out of reach.
+            let s = if s_hit < s_far { s_hit } else { s_far };
+            let s = if s < f32::MAX { s } else { f32::MAX };
+            *x = eye.x + dx * s;
+            *y = eye.y + dy * s;
+        }
+    }
+}
