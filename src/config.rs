@@ -8,7 +8,7 @@ use crate::cell::{Axes, CellKey};
 use crate::frame_loop::{check_depth, check_helpers, Budget, Mode};
 use crate::ocean::{mesh, FftParams, Grid, Mesh, OceanParams, Wave, WaveSet};
 use crate::suggest;
-use crate::workload::WorkloadKind;
+use crate::workload::{fog, FogParams, WorkloadKind};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -128,6 +128,13 @@ impl Level {
                     "{field}.{unit}: must be a whole number 0 to {MAX_AMOUNT}, got {amount}"
                 )));
             }
+            if unit == fog::Fog::UNIT {
+                fog::check_volume(
+                    &format!("{field}.{unit}"),
+                    amount as u64,
+                    available_memory(),
+                )?;
+            }
             return Ok(());
         }
         match (self.micros, self.step_fraction, self.size) {
@@ -203,8 +210,10 @@ pub struct SweepConfig {
     pub slow_trial_percent: f64,
     /// When present, the sweep also finds each size's balance point (see `oceanbench balance`).
     pub balance: Option<BalanceSettings>,
-    /// The camera the `render` workload looks through.
+    /// The camera the `render` and `fog` workloads look through.
     pub camera: Camera,
+    /// The `fog` workload's parameters.
+    pub fog: FogParams,
 }
 
 impl Default for SweepConfig {
@@ -233,6 +242,7 @@ impl Default for SweepConfig {
             slow_trial_percent: crate::slow_trials::DEFAULT_THRESHOLD_PERCENT,
             balance: None,
             camera: Camera::default(),
+            fog: FogParams::default(),
         }
     }
 }
@@ -519,6 +529,7 @@ impl SweepConfig {
             b.validate("balance.")?;
         }
         self.camera.validate()?;
+        self.fog.validate()?;
         self.ocean_params()?;
         self.placement()?;
         for key in self.axes.cells() {

@@ -17,7 +17,7 @@ use crate::results::{
 use crate::sched::TrialNoise;
 use crate::slow_trials::{self, TrialFacts};
 use crate::sync::{Policy, SyncMethod};
-use crate::workload::{Calibration, WorkloadKind};
+use crate::workload::{Calibration, WorkRecord, WorkloadKind};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, SystemTime};
@@ -413,6 +413,7 @@ impl Sweep {
             workload_kind: key.workload_kind,
             workload_amount: iterations,
             camera: config.camera,
+            fog: config.fog.clone(),
             depth: key.depth.unwrap_or(1),
             consume: key.consume,
             main_core: self.cores[0],
@@ -449,6 +450,7 @@ impl Sweep {
             trials: Vec::new(),
             facts: Vec::new(),
             noise: Vec::new(),
+            records: Vec::new(),
             retries: 0,
             calibration,
             pinned: true,
@@ -464,6 +466,7 @@ struct CellRun {
     trials: Vec<Trial>,
     facts: Vec<TrialFacts>,
     noise: Vec<TrialNoise>,
+    records: Vec<WorkRecord>,
     retries: usize,
     calibration: Option<RowCalibration>,
     pinned: bool,
@@ -499,6 +502,7 @@ impl CellRun {
         self.pinned &= run.pinned();
         self.trials.push(run.trial);
         self.noise.push(run.noise);
+        self.records.extend(run.work_record);
     }
 
     fn finish(self, threshold_percent: f64, slow_percent: f64) -> Cell {
@@ -526,6 +530,7 @@ impl CellRun {
             error: self.error,
             key: self.key,
             calibration: self.calibration,
+            work: WorkRecord::of_trials(&self.records),
             noise: (!self.noise.is_empty()).then_some(CellNoise {
                 trials: self.noise,
                 threshold_percent,

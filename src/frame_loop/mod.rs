@@ -27,7 +27,7 @@ use crate::measure::Trial;
 use crate::ocean::{Grid, Kernel, Mesh, Model, NormalMethod, OceanKind, OceanParams};
 use crate::sched::{self, ThreadCounters, ThreadNoise, TrialNoise};
 use crate::sync::{Policy, SyncMethod};
-use crate::workload::{Work, WorkSpec, WorkloadKind};
+use crate::workload::{FogParams, Work, WorkRecord, WorkSpec, WorkloadKind};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -91,6 +91,8 @@ pub struct LoopSpec {
     pub workload_amount: u64,
     /// The camera, for workloads that look at the mesh.
     pub camera: Camera,
+    /// The fog's parameters, for the `fog` workload.
+    pub fog: FogParams,
     /// Mesh slots in the ring: frames the helper may finish before the main thread consumes
     /// the first of them (1: the paper's lockstep loop; ignored in `serial`).
     pub depth: usize,
@@ -158,6 +160,7 @@ impl LoopSpec {
             amount: self.workload_amount,
             grid: self.grid,
             camera: self.camera,
+            fog: self.fog.clone(),
         }
     }
 
@@ -397,6 +400,8 @@ pub struct LoopRun {
     pub helper_pins: Vec<Pin>,
     /// The digest of what the main thread's work produced in the last frame.
     pub work_digest: u64,
+    /// What the main thread's work recorded of itself ([`Work::record`]).
+    pub work_record: Option<WorkRecord>,
     /// Each thread's run delay and preemptions, and each core's steal, during the loop.
     pub noise: TrialNoise,
 }
@@ -509,6 +514,7 @@ where
                     (_, Threading::Spawn) => spawn::run(spec, budget, ocean, work, observe),
                 }?;
                 run.work_digest = work.digest();
+                run.work_record = work.record();
                 Ok(run)
             })
             .map_err(|e| LoopError::Helper(e.to_string()))?

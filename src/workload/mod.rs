@@ -3,14 +3,17 @@
 //! transforms the mesh just consumed. A kind is one file here, one variant of [`WorkloadKind`]
 //! and one arm of [`WorkloadKind::work`].
 
+pub mod fog;
 mod render;
 mod synthetic;
 
+pub use fog::{Fog, FogParams, FogRecord};
 pub use render::Render;
 pub use synthetic::{run, run_unless, Calibration, Synthetic};
 
 use crate::camera::Camera;
 use crate::ocean::{Grid, Mesh};
+use serde::{Deserialize, Serialize};
 use std::sync::atomic::AtomicBool;
 
 crate::named! {
@@ -22,6 +25,9 @@ crate::named! {
         /// the camera's view-projection, then spends the level's work as the cost of submitting
         /// the frame.
         Render,
+        /// The ocean-fog article's CPU fog: rebuilds and blurs an N³ noise volume, then gives
+        /// every vertex of the consumed mesh its fog coefficient.
+        Fog,
     }
 }
 
@@ -48,10 +54,44 @@ pub trait Work: Send {
     /// A digest of what the last frame's work produced, to check that every mode, method and
     /// depth produces the same (not called while measuring).
     fn digest(&self) -> u64;
+
+    /// What the work measured of itself over the loop, for the results (kinds that time their
+    /// own parts; not called while measuring).
+    fn record(&self) -> Option<WorkRecord> {
+        None
+    }
+}
+
+/// A kind's own record of its work in a loop, kept with the cell's results.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WorkRecord {
+    /// The fog's volume, octaves and time per part of its pass.
+    Fog(FogRecord),
+}
+
+impl WorkRecord {
+    /// One record for a cell from its trials' records: each time's median over them.
+    pub fn of_trials(records: &[WorkRecord]) -> Option<WorkRecord> {
+        let fog: Vec<FogRecord> = records
+            .iter()
+            .map(|r| match r {
+                WorkRecord::Fog(f) => f.clone(),
+            })
+            .collect();
+        FogRecord::median(&fog).map(WorkRecord::Fog)
+    }
+}
+
+/// Folds the bits of `values` into `seed`: the digest of a kind's float output.
+pub fn digest_floats(seed: u64, values: impl IntoIterator<Item = f32>) -> u64 {
+    values.into_iter().fold(seed, |h, v| {
+        (h.rotate_left(5) ^ u64::from(v.to_bits())).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+    })
 }
 
 /// What a kind's work is built from.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct WorkSpec {
     /// The kind.
     pub kind: WorkloadKind,
@@ -61,6 +101,8 @@ pub struct WorkSpec {
     pub grid: Grid,
     /// The camera, for kinds that look at the mesh.
     pub camera: Camera,
+    /// The fog's parameters, for `fog`.
+    pub fog: FogParams,
 }
 
 impl WorkloadKind {
@@ -69,6 +111,7 @@ impl WorkloadKind {
         match self {
             WorkloadKind::Synthetic => Synthetic::UNIT,
             WorkloadKind::Render => Render::UNIT,
+            WorkloadKind::Fog => Fog::UNIT,
         }
     }
 
@@ -77,6 +120,7 @@ impl WorkloadKind {
         match spec.kind {
             WorkloadKind::Synthetic => Box::new(Synthetic::new(spec.amount)),
             WorkloadKind::Render => Box::new(Render::new(spec)),
+            WorkloadKind::Fog => Box::new(Fog::new(spec)),
         }
     }
 }

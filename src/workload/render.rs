@@ -105,9 +105,7 @@ impl Work for Render {
             .iter()
             .flat_map(|p| p.to_array())
             .chain(self.normals.iter().flat_map(|n| n.to_array()));
-        bits.fold(self.frame, |h, v| {
-            (h.rotate_left(5) ^ u64::from(v.to_bits())).wrapping_mul(0x9E37_79B9_7F4A_7C15)
-        })
+        super::digest_floats(self.frame, bits)
     }
 }
 
@@ -124,6 +122,7 @@ mod tests {
             amount: 0,
             grid: Grid::new(n, 1.0).unwrap(),
             camera: Camera::default(),
+            fog: Default::default(),
         }
     }
 
