@@ -7,7 +7,9 @@
 //! edge N (`{"volume": N}`); see docs/fog.md.
 
 pub mod blur;
+pub mod calibrate;
 pub mod coefficient;
+pub mod isa;
 pub mod noise;
 
 use super::{Stopped, Work, WorkSpec};

@@ -5,10 +5,9 @@
 //! Along a row only x varies, so the y and z halves of every lattice gradient's dot product and
 //! the y-z interpolation are done once per lattice column (a value `a + b·dx` for the column),
 //! and each voxel is a linear blend of its cell's two columns: about ten flops per sample, in a
-//! loop without gathers that LLVM vectorises, compiled once per instruction set and picked at
-//! run time with the fast ocean kernel's [`Isa`].
+//! loop without gathers that LLVM vectorises ([`super::isa`]).
 
-use crate::ocean::sines::fast::Isa;
+use super::isa::{self, Isa};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Entries of a permutation table (lattice coordinates wrap at this period).
@@ -228,44 +227,34 @@ impl Rows<'_> {
             *a = lerp(lerp(a00, a01, sz), lerp(a10, a11, sz), sy);
             *b = lerp(lerp(b00, b01, sz), lerp(b10, b11, sz), sy);
         }
-        match isa {
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: `isa` comes from `Isa::available`, so the CPU has these features.
-            Isa::Avx512 => unsafe { samples_avx512(self, out) },
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: as above.
-            Isa::Avx2 => unsafe { samples_avx2(self, out) },
-            _ => samples(self, out),
-        }
+        isa::run(isa, Samples { rows: self, out });
     }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx2,fma")]
-fn samples_avx512(rows: &Rows<'_>, out: &mut [f32]) {
-    samples(rows, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn samples_avx2(rows: &Rows<'_>, out: &mut [f32]) {
-    samples(rows, out)
 }
 
 /// Adds the octave's samples to a row, one run of a lattice cell at a time: within a run the
 /// cell's two columns are constants and the loop is a vector loop.
-#[inline(always)]
-fn samples(r: &Rows<'_>, out: &mut [f32]) {
-    let (u, s) = (&r.axes[0].frac, &r.axes[0].fade);
-    for c in 0..r.runs.len() - 1 {
-        let (start, end) = (r.runs[c], r.runs[c + 1]);
-        let (a0, b0, a1, b1) = (r.a[c], r.b[c], r.a[c + 1], r.b[c + 1]);
-        let out = &mut out[start..end];
-        for ((o, &u), &s) in out.iter_mut().zip(&u[start..end]).zip(&s[start..end]) {
-            let g0 = a0 + b0 * u;
-            let g1 = a1 + b1 * (u - 1.0);
-            let noise = (lerp(g0, g1, s) * SCALE).clamp(-1.0, 1.0);
-            *o += r.weight * noise;
+struct Samples<'a, 'b> {
+    rows: &'a Rows<'b>,
+    out: &'a mut [f32],
+}
+
+impl isa::Loop for Samples<'_, '_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let r = self.rows;
+        let (u, s) = (&r.axes[0].frac, &r.axes[0].fade);
+        for c in 0..r.runs.len() - 1 {
+            let (start, end) = (r.runs[c], r.runs[c + 1]);
+            let (a0, b0, a1, b1) = (r.a[c], r.b[c], r.a[c + 1], r.b[c + 1]);
+            let out = &mut self.out[start..end];
+            for ((o, &u), &s) in out.iter_mut().zip(&u[start..end]).zip(&s[start..end]) {
+                let g0 = a0 + b0 * u;
+                let g1 = a1 + b1 * (u - 1.0);
+                let noise = (lerp(g0, g1, s) * SCALE).clamp(-1.0, 1.0);
+                *o += r.weight * noise;
+            }
         }
     }
 }

@@ -117,39 +117,41 @@ fn the_blur_is_a_wrapped_binomial_convolution_and_keeps_the_mean() {
         let w = blur::weights(width);
         let r = width / 2;
         let input = random_volume(n, 3);
-        let mut volume = input.clone();
-        let mut scratch = vec![0.0; volume.len()];
-        assert!(blur::blur(&mut volume, &mut scratch, n, &w, None));
-        let at = |x: isize, y: isize, z: isize| {
-            let m = |c: isize| c.rem_euclid(n as isize) as usize;
-            input[(m(z) * n + m(y)) * n + m(x)]
-        };
-        for (v, &got) in volume.iter().enumerate() {
-            let (x, y, z) = (
-                (v % n) as isize,
-                (v / n % n) as isize,
-                (v / (n * n)) as isize,
-            );
-            let mut want = 0.0f64;
-            for (a, &wa) in w.iter().enumerate() {
-                for (b, &wb) in w.iter().enumerate() {
-                    for (c, &wc) in w.iter().enumerate() {
-                        let o = |t: usize| t as isize - r as isize;
-                        want +=
-                            f64::from(wa * wb * wc) * f64::from(at(x + o(a), y + o(b), z + o(c)));
+        for isa in Isa::available() {
+            let mut volume = input.clone();
+            let mut scratch = vec![0.0; volume.len()];
+            assert!(blur::blur_with(isa, &mut volume, &mut scratch, n, &w, None));
+            let at = |x: isize, y: isize, z: isize| {
+                let m = |c: isize| c.rem_euclid(n as isize) as usize;
+                input[(m(z) * n + m(y)) * n + m(x)]
+            };
+            for (v, &got) in volume.iter().enumerate() {
+                let (x, y, z) = (
+                    (v % n) as isize,
+                    (v / n % n) as isize,
+                    (v / (n * n)) as isize,
+                );
+                let mut want = 0.0f64;
+                for (a, &wa) in w.iter().enumerate() {
+                    for (b, &wb) in w.iter().enumerate() {
+                        for (c, &wc) in w.iter().enumerate() {
+                            let o = |t: usize| t as isize - r as isize;
+                            want += f64::from(wa * wb * wc)
+                                * f64::from(at(x + o(a), y + o(b), z + o(c)));
+                        }
                     }
                 }
+                assert!(
+                    (f64::from(got) - want).abs() < 1e-5,
+                    "{isa:?} n {n} width {width} voxel {v}"
+                );
             }
+            let mean = |v: &[f32]| v.iter().map(|&x| f64::from(x)).sum::<f64>() / v.len() as f64;
             assert!(
-                (f64::from(got) - want).abs() < 1e-5,
-                "n {n} width {width} voxel {v}"
+                (mean(&volume) - mean(&input)).abs() < 1e-6,
+                "{isa:?} n {n} width {width}"
             );
         }
-        let mean = |v: &[f32]| v.iter().map(|&x| f64::from(x)).sum::<f64>() / v.len() as f64;
-        assert!(
-            (mean(&volume) - mean(&input)).abs() < 1e-6,
-            "n {n} width {width}"
-        );
     }
 }
 
