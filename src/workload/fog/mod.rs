@@ -31,7 +31,7 @@ pub const MAX_OCTAVES: u32 = 8;
 const STRIDE: (f64, f64) = (0.25, 4096.0);
 
 /// Widest blur.
-const MAX_BLUR: u32 = 31;
+const MAX_BLUR: u32 = blur::MAX_WIDTH as u32;
 
 /// Voxels the noise moves per frame along x, y and z: the fog drifting through the volume, so
 /// that every frame's volume differs.
