@@ -102,6 +102,7 @@ fn particles(c: &mut Criterion) {
             spacing,
             time_step: DT,
             spray: SprayParams::default(),
+            fog: Default::default(),
         });
         let mut k = 0u64;
         for _ in 0..120 {

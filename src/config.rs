@@ -8,7 +8,7 @@ use crate::cell::{Axes, CellKey};
 use crate::frame_loop::{check_depth, check_helpers, Budget, Mode};
 use crate::ocean::{mesh, FftParams, Grid, Mesh, OceanParams, Wave, WaveSet};
 use crate::suggest;
-use crate::workload::{spray, SprayParams, WorkloadKind};
+use crate::workload::{fog, spray, FogParams, SprayParams, WorkloadKind};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -135,6 +135,13 @@ impl Level {
                     "{field}.{unit}: must be a whole number 0 to {MAX_AMOUNT}, got {amount}"
                 )));
             }
+            if unit == fog::Fog::UNIT {
+                fog::check_volume(
+                    &format!("{field}.{unit}"),
+                    amount as u64,
+                    available_memory(),
+                )?;
+            }
             return Ok(());
         }
         if let Some(kind) = kinds.iter().find(|k| k.unit() == spray::Spray::UNIT) {
@@ -215,10 +222,12 @@ pub struct SweepConfig {
     pub slow_trial_percent: f64,
     /// When present, the sweep also finds each size's balance point (see `oceanbench balance`).
     pub balance: Option<BalanceSettings>,
-    /// The camera the `render` workload looks through.
+    /// The camera the `render` and `fog` workloads look through.
     pub camera: Camera,
     /// The `spray` workload's parameters.
     pub spray: SprayParams,
+    /// The `fog` workload's parameters.
+    pub fog: FogParams,
 }
 
 impl Default for SweepConfig {
@@ -248,6 +257,7 @@ impl Default for SweepConfig {
             balance: None,
             camera: Camera::default(),
             spray: SprayParams::default(),
+            fog: FogParams::default(),
         }
     }
 }
@@ -535,6 +545,7 @@ impl SweepConfig {
         }
         self.camera.validate()?;
         self.spray.validate()?;
+        self.fog.validate()?;
         self.ocean_params()?;
         self.placement()?;
         for key in self.axes.cells() {

@@ -61,6 +61,10 @@ pub struct Cell {
     /// What disturbed the cell's trials (absent in results from before it was recorded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub noise: Option<CellNoise>,
+    /// What the cell's workload kind recorded of its own work, the median over trials (the
+    /// fog's volume, octaves and time per part of its pass; absent for other kinds).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub work: Option<crate::workload::WorkRecord>,
 }
 
 impl Cell {

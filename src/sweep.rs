@@ -5,7 +5,7 @@
 use crate::balance::{self, BalanceError, BalanceSettings, Testbed};
 use crate::calibrate::{self, Calibrate, RowCalibration, Yardstick};
 use crate::cell::{Dim, Value};
-use crate::config::{self, InputError, SweepConfig};
+use crate::config::{self, InputError, Level, SweepConfig};
 use crate::crosscore;
 use crate::frame_loop::{self, Budget, LoopError, LoopSpec, Mode, Threading};
 use crate::machine::Machine;
@@ -17,7 +17,7 @@ use crate::results::{
 use crate::sched::TrialNoise;
 use crate::slow_trials::{self, TrialFacts};
 use crate::sync::{Policy, SyncMethod};
-use crate::workload::{Calibration, WorkloadKind};
+use crate::workload::{fog, Calibration, WorkRecord, WorkloadKind};
 use itertools::Itertools;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -100,6 +100,55 @@ pub fn calibrate(config: &SweepConfig, params: &OceanParams) -> CalibrationRecor
     }
 }
 
+/// A `fog` row's level on `grid`, measured by the fog's own calibration: a volume edge is
+/// kept and its pass timed (its µs are the pass's); µs (or a step fraction's µs) come to the edge
+/// whose pass takes that long, at most [`fog::MAX_VOLUME`] (the start refuses levels beyond it).
+fn fog_level(
+    config: &SweepConfig,
+    level: &Level,
+    grid: Grid,
+    micros: f64,
+    amount: u64,
+) -> (f64, u64) {
+    if level.amount().is_some() {
+        let cost = fog::calibrate::measure(&config.fog, grid, config.camera, amount);
+        return (if amount == 0 { 0.0 } else { cost.micros() }, amount);
+    }
+    match fog::calibrate::volume_for(&config.fog, grid, config.camera, micros) {
+        Ok((edge, _)) => (micros, edge),
+        Err(_) => (micros, fog::MAX_VOLUME),
+    }
+}
+
+/// With `fog` in the sweep, the start record of each volume level gets its pass's µs on the
+/// largest mesh, and a level in µs the fog cannot reach within [`fog::MAX_VOLUME`] is refused.
+fn fog_levels(config: &SweepConfig, calibration: &mut CalibrationRecord) -> Result<(), InputError> {
+    if !config.axes.workload_kind.contains(&WorkloadKind::Fog) {
+        return Ok(());
+    }
+    let size = config.axes.sizes.iter().copied().max().expect("validated");
+    let grid = Grid::new(size, config.spacing).expect("validated");
+    for l in &mut calibration.levels {
+        if let Some((_, volume)) = l.level.amount() {
+            if volume > 0 {
+                l.micros =
+                    fog::calibrate::measure(&config.fog, grid, config.camera, volume).micros();
+            }
+        } else if let Err(edge) =
+            fog::calibrate::volume_for(&config.fog, grid, config.camera, l.micros)
+        {
+            return Err(InputError(format!(
+                "workload_levels[{}]: {:.0} µs of fog on the {size}×{size} mesh needs a volume \
+                 of about {edge}³ on this machine; allowed up to {}³ (fewer µs, or more octaves)",
+                l.workload,
+                l.micros,
+                fog::MAX_VOLUME
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// UTC now in RFC 3339, seconds precision.
 pub fn utc_now() -> String {
     humantime::format_rfc3339_seconds(SystemTime::now()).to_string()
@@ -155,7 +204,8 @@ impl Sweep {
         let cores = config.placement()?;
         let before = (cores[0] != cores[1])
             .then(|| crosscore::round_trip(cores[0], cores[1], ROUND_TRIP_BATCHES));
-        let calibration = calibrate(&config, &params);
+        let mut calibration = calibrate(&config, &params);
+        fog_levels(&config, &mut calibration)?;
         for l in &calibration.levels {
             if l.micros > config.max_workload_micros() {
                 return Err(InputError(config::too_much_work(
@@ -393,6 +443,13 @@ impl Sweep {
             }
             _ => (at_start.micros, at_start.iterations),
         };
+        let (micros, iterations) = match key.workload_kind {
+            WorkloadKind::Fog => {
+                let grid = Grid::new(key.size, config.spacing).expect("validated");
+                fog_level(config, level, grid, micros, iterations)
+            }
+            _ => (micros, iterations),
+        };
         let calibration = RowCalibration {
             calibrate: config.calibrate,
             step_ms_at_start: start.step_for(key.ocean, key.size).unwrap_or(f64::NAN),
@@ -439,6 +496,7 @@ impl Sweep {
             workload_amount: iterations,
             camera: config.camera,
             spray: config.spray,
+            fog: config.fog.clone(),
             depth: key.depth.unwrap_or(1),
             consume: key.consume,
             main_core: self.cores[0],
@@ -475,6 +533,7 @@ impl Sweep {
             trials: Vec::new(),
             facts: Vec::new(),
             noise: Vec::new(),
+            records: Vec::new(),
             retries: 0,
             calibration,
             pinned: true,
@@ -490,6 +549,7 @@ struct CellRun {
     trials: Vec<Trial>,
     facts: Vec<TrialFacts>,
     noise: Vec<TrialNoise>,
+    records: Vec<WorkRecord>,
     retries: usize,
     calibration: Option<RowCalibration>,
     pinned: bool,
@@ -525,6 +585,7 @@ impl CellRun {
         self.pinned &= run.pinned();
         self.trials.push(run.trial);
         self.noise.push(run.noise);
+        self.records.extend(run.work_record);
     }
 
     fn finish(self, threshold_percent: f64, slow_percent: f64) -> Cell {
@@ -552,6 +613,7 @@ impl CellRun {
             error: self.error,
             key: self.key,
             calibration: self.calibration,
+            work: WorkRecord::of_trials(&self.records),
             noise: (!self.noise.is_empty()).then_some(CellNoise {
                 trials: self.noise,
                 threshold_percent,

@@ -115,6 +115,7 @@ fn cell(key: CellKey, fps: f64) -> Cell {
         error: None,
         calibration: None,
         noise: None,
+        work: None,
     }
 }
 

@@ -107,8 +107,31 @@ fn bad_configs_exit_2_naming_the_field() {
         ),
         (r#"{"ocean": ["sines", "sines"]}"#, vec!["ocean", "twice"]),
         (
-            r#"{"workload_kind": ["synthetic", "fog"]}"#,
-            vec!["workload_kind[1]", "synthetic, render"],
+            r#"{"workload_kind": ["synthetic", "clouds"]}"#,
+            vec!["workload_kind[1]", "synthetic, render, fog"],
+        ),
+        (
+            r#"{"workload_kind": ["fog"], "workloads": [0], "workload_levels": [{"volume": 600}]}"#,
+            vec!["workload_levels[0].volume", "0 to 512", "1647 MiB"],
+        ),
+        (
+            r#"{"workload_kind": ["fog"], "workloads": [0], "workload_levels": [{"volume": 8.5}]}"#,
+            vec!["workload_levels[0].volume", "whole number"],
+        ),
+        (r#"{"fog": {"octaves": 0}}"#, vec!["fog.octaves", "1 to 8"]),
+        (r#"{"fog": {"octaves": 9}}"#, vec!["fog.octaves", "1 to 8"]),
+        (r#"{"fog": {"density": -0.1}}"#, vec!["fog.density", ">= 0"]),
+        (
+            r#"{"fog": {"blur_width": 4}}"#,
+            vec!["fog.blur_width", "odd, 3 to 31"],
+        ),
+        (
+            r#"{"fog": {"blur_width": 1}}"#,
+            vec!["fog.blur_width", "odd, 3 to 31"],
+        ),
+        (
+            r#"{"fog": {"thickness": 2}}"#,
+            vec!["fog", "thickness", "octaves"],
         ),
         (
             r#"{"workloads": [0], "workload_levels": [{"particles": 100}]}"#,

@@ -28,6 +28,7 @@ fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMetho
         workload_amount: 50,
         camera: Camera::default(),
         spray: Default::default(),
+        fog: Default::default(),
         depth: 1,
         consume: Consume::Copy,
         main_core: cores[0],
@@ -793,5 +794,43 @@ fn projected_meshes_are_bit_identical_in_every_mode_method_depth_and_helper_coun
             }
         }
         assert!(runs > 0);
+    }
+}
+
+/// `fog` gives the same coefficients to every vertex of the consumed mesh in every mode,
+/// depth, consumption and method (it reads the mesh like `render`), and records its pass.
+#[test]
+fn fog_fields_are_the_same_in_every_mode_depth_consumption_and_method() {
+    use oceanbench::workload::WorkRecord;
+    const FEW: u64 = 12;
+    let fog = |mode, sync| {
+        let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
+        (s.workload_kind, s.workload_amount) = (WorkloadKind::Fog, 10);
+        s.grid = Grid::new(16, 0.75).unwrap();
+        s
+    };
+    let field = |s: LoopSpec| {
+        let what = format!("{:?} {:?} d{} {:?}", s.mode, s.sync, s.depth, s.consume);
+        let run = frame_loop::run(&s, &Budget::exact(FEW), |_, _| {})
+            .unwrap_or_else(|e| panic!("{what}: {e}"));
+        let Some(WorkRecord::Fog(r)) = run.work_record else {
+            panic!("{what}: fog records its pass")
+        };
+        assert_eq!(r.volume, 10, "{what}");
+        (run.work_digest, what)
+    };
+    let (expect, _) = field(fog(Mode::Serial, SyncMethod::Atomic));
+    let mut slower = fog(Mode::Serial, SyncMethod::Atomic);
+    slower.time_step *= 2.0;
+    assert_ne!(field(slower).0, expect, "the fog follows the mesh");
+    for mode in modes() {
+        for consume in [Consume::Copy, Consume::Read, Consume::Handle] {
+            for (sync, depth) in [(SyncMethod::Atomic, 1), (SyncMethod::Condvar, 2)] {
+                let mut s = fog(mode, sync);
+                (s.depth, s.consume) = (depth, consume);
+                let (digest, what) = field(s);
+                assert_eq!(digest, expect, "{what}");
+            }
+        }
     }
 }

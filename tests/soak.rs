@@ -49,6 +49,7 @@ fn a_million_frames_per_method_none_lost() {
                     workload_amount: 0,
                     camera: Camera::default(),
                     spray: Default::default(),
+                    fog: Default::default(),
                     depth,
                     consume: if depth == 1 {
                         Consume::Copy

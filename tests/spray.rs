@@ -42,6 +42,7 @@ fn spec(mode: Mode, sync: SyncMethod, helpers: usize) -> LoopSpec {
             emission_cap: 200,
             ..SprayParams::default()
         },
+        fog: Default::default(),
         depth: 1,
         consume: Consume::Copy,
         main_core: cores[0],

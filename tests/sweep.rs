@@ -156,3 +156,64 @@ fn an_interrupted_sweep_keeps_finished_rows_and_resumes_to_the_same_cells() {
     );
     assert_eq!(&done.cells[..6], &partial.cells[..]);
 }
+
+/// `fog` beside `synthetic` at the same µs: each fog row's level comes to a volume edge through
+/// the fog's own calibration (recorded as the cell's amount in `volume`, with its pass split
+/// into noise, blur and coefficients), the synthetic rows' to iterations; level 0 runs no pass.
+#[test]
+fn fog_levels_in_micros_resolve_to_a_volume_through_its_own_calibration() {
+    use oceanbench::workload::{WorkRecord, WorkloadKind};
+    let mut config = tiny("fog");
+    config.axes.sizes = vec![8];
+    config.axes.modes = vec![Mode::Serial];
+    config.axes.workload_kind = vec![WorkloadKind::Synthetic, WorkloadKind::Fog];
+    config.workload_levels = vec![Level::micros(0.0), Level::micros(3000.0)];
+    config.trials = 1;
+    let results = Sweep::prepare(config).unwrap().run(&mut ());
+    assert_eq!(results.cells.len(), 4);
+    for c in &results.cells {
+        let what = c.key.label();
+        let amount = c.workload_amount.unwrap();
+        match (c.key.workload_kind, c.key.workload) {
+            (WorkloadKind::Fog, 0) => {
+                assert_eq!((c.workload_unit(), amount), ("volume", 0), "{what}");
+                assert!(c.work.is_none(), "{what}: no pass at volume 0");
+            }
+            (WorkloadKind::Fog, _) => {
+                assert_eq!(c.workload_unit(), "volume", "{what}");
+                assert!((1..=512).contains(&amount), "{what}: volume {amount}");
+                let Some(WorkRecord::Fog(r)) = &c.work else {
+                    panic!("{what}: the fog's pass is recorded")
+                };
+                assert_eq!((r.volume, r.octaves), (amount, 4), "{what}");
+                assert!(r.noise_ms > 0.0 && r.blur_ms > 0.0, "{what}");
+                let cal = c.calibration.as_ref().unwrap();
+                assert_eq!(cal.level_micros, 3000.0, "{what}");
+            }
+            (_, w) => {
+                assert_eq!(c.workload_unit(), "iterations", "{what}");
+                assert_eq!(amount > 0, w > 0, "{what}");
+                assert!(c.work.is_none(), "{what}");
+            }
+        }
+    }
+}
+
+/// A level in µs that no volume up to 512³ reaches is refused before anything runs.
+#[test]
+fn fog_micros_beyond_the_largest_volume_are_refused() {
+    use oceanbench::workload::WorkloadKind;
+    let mut config = tiny("fog-too-much");
+    config.axes.workload_kind = vec![WorkloadKind::Fog];
+    config.timeout_seconds = 86_400.0;
+    config.workload_levels = vec![Level::micros(0.0), Level::micros(3.0e10)];
+    let Err(e) = Sweep::prepare(config) else {
+        panic!("30 000 s of fog per frame is refused")
+    };
+    assert!(
+        e.0.starts_with("workload_levels[1]: 30000000000 µs of fog")
+            && e.0.contains("allowed up to 512³"),
+        "{}",
+        e.0
+    );
+}

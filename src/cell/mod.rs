@@ -52,7 +52,7 @@ dimensions! {
         label: "w{}",
         title: "workload {}",
     }
-    /// What the main thread does each frame: the synthetic game work, or rendering the mesh.
+    /// What the main thread does each frame: the synthetic game work, rendering the mesh, or fog.
     WorkloadKind(workload_kind: WorkloadKind) {
         config: workload_kind = [WorkloadKind::Synthetic],
         cells: all,

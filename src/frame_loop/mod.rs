@@ -27,7 +27,7 @@ use crate::measure::Trial;
 use crate::ocean::{Grid, GridKind, Kernel, Mesh, Model, NormalMethod, OceanKind, OceanParams};
 use crate::sched::{self, ThreadCounters, ThreadNoise, TrialNoise};
 use crate::sync::{Policy, SyncMethod};
-use crate::workload::{SprayParams, Work, WorkSpec, WorkloadKind};
+use crate::workload::{FogParams, SprayParams, Work, WorkRecord, WorkSpec, WorkloadKind};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -95,6 +95,8 @@ pub struct LoopSpec {
     pub camera: Camera,
     /// The spray's parameters, for the `spray` workload.
     pub spray: SprayParams,
+    /// The fog's parameters, for the `fog` workload.
+    pub fog: FogParams,
     /// Mesh slots in the ring: frames the helper may finish before the main thread consumes
     /// the first of them (1: the paper's lockstep loop; ignored in `serial`).
     pub depth: usize,
@@ -171,6 +173,7 @@ impl LoopSpec {
             spacing: self.ocean.model().rest_spacing(self.grid, &self.params),
             time_step: self.time_step as f32,
             spray: self.spray,
+            fog: self.fog.clone(),
         }
     }
 
@@ -410,6 +413,8 @@ pub struct LoopRun {
     pub helper_pins: Vec<Pin>,
     /// The digest of what the main thread's work produced in the last frame.
     pub work_digest: u64,
+    /// What the main thread's work recorded of itself ([`Work::record`]).
+    pub work_record: Option<WorkRecord>,
     /// Each thread's run delay and preemptions, and each core's steal, during the loop.
     pub noise: TrialNoise,
 }
@@ -527,6 +532,7 @@ where
                     (_, Threading::Spawn) => spawn::run(spec, budget, ocean, work, observe),
                 }?;
                 run.work_digest = work.digest();
+                run.work_record = work.record();
                 Ok(run)
             })
             .map_err(|e| LoopError::Helper(e.to_string()))?

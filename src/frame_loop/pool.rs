@@ -133,6 +133,7 @@ pub(super) fn drive<S: Stop>(
         main_pin,
         helper_pins,
         work_digest: 0,
+        work_record: None,
         noise: cores.stop(threads),
     })
 }

@@ -59,6 +59,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
         main_pin,
         helper_pins: Vec::new(),
         work_digest: 0,
+        work_record: None,
         noise: cores.stop(vec![main.stop("main".into())]),
     })
 }

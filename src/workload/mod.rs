@@ -1,12 +1,15 @@
 //! What the main thread does each frame while the helper computes the mesh, behind one trait:
-//! the synthetic game work of the paper's study (a calibrated integer chain) and `render`, which
-//! transforms the mesh just consumed. A kind is one file here, one variant of [`WorkloadKind`]
+//! the synthetic game work of the paper's study (a calibrated integer chain), `render`, which
+//! transforms the mesh just consumed, `spray`, particles born at its folds, and `fog`, a noise
+//! volume rebuilt and blurred each frame that gives every vertex its fog coefficient. A kind is one file here, one variant of [`WorkloadKind`]
 //! and one arm of [`WorkloadKind::work`].
 
+pub mod fog;
 mod render;
 pub mod spray;
 mod synthetic;
 
+pub use fog::{Fog, FogParams, FogRecord};
 pub use render::Render;
 pub use spray::{Spray, SprayParams};
 pub use synthetic::{run, run_unless, Calibration, Synthetic};
@@ -14,6 +17,7 @@ pub use synthetic::{run, run_unless, Calibration, Synthetic};
 use crate::camera::Camera;
 use crate::input::InputError;
 use crate::ocean::{Grid, Mesh, OceanKind};
+use serde::{Deserialize, Serialize};
 use std::sync::atomic::AtomicBool;
 
 crate::named! {
@@ -28,6 +32,9 @@ crate::named! {
         /// The slides' spray: a pool of particles born where the consumed mesh folds, flown
         /// under gravity and drag, killed below the surface or when they expire.
         Spray,
+        /// The ocean-fog article's CPU fog: rebuilds and blurs an N³ noise volume, then gives
+        /// every vertex of the consumed mesh its fog coefficient.
+        Fog,
     }
 }
 
@@ -70,6 +77,12 @@ pub trait Work: Send {
     fn counts(&self) -> Option<WorkCounts> {
         None
     }
+
+    /// What the work measured of itself over the loop, for the results (kinds that time their
+    /// own parts; not called while measuring).
+    fn record(&self) -> Option<WorkRecord> {
+        None
+    }
 }
 
 /// Folds `values` into a digest from `seed`: what [`Work::digest`] implementations hash with.
@@ -79,8 +92,29 @@ pub fn fold_digest(seed: u64, values: impl Iterator<Item = u64>) -> u64 {
     })
 }
 
+/// A kind's own record of its work in a loop, kept with the cell's results.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WorkRecord {
+    /// The fog's volume, octaves and time per part of its pass.
+    Fog(FogRecord),
+}
+
+impl WorkRecord {
+    /// One record for a cell from its trials' records: each time's median over them.
+    pub fn of_trials(records: &[WorkRecord]) -> Option<WorkRecord> {
+        let fog: Vec<FogRecord> = records
+            .iter()
+            .map(|r| match r {
+                WorkRecord::Fog(f) => f.clone(),
+            })
+            .collect();
+        FogRecord::median(&fog).map(WorkRecord::Fog)
+    }
+}
+
 /// What a kind's work is built from.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct WorkSpec {
     /// The kind.
     pub kind: WorkloadKind,
@@ -96,6 +130,8 @@ pub struct WorkSpec {
     pub time_step: f32,
     /// The spray's parameters.
     pub spray: SprayParams,
+    /// The fog's parameters, for `fog`.
+    pub fog: FogParams,
 }
 
 impl WorkloadKind {
@@ -105,6 +141,7 @@ impl WorkloadKind {
             WorkloadKind::Synthetic => Synthetic::UNIT,
             WorkloadKind::Render => Render::UNIT,
             WorkloadKind::Spray => Spray::UNIT,
+            WorkloadKind::Fog => Fog::UNIT,
         }
     }
 
@@ -122,6 +159,7 @@ impl WorkloadKind {
             WorkloadKind::Synthetic => Box::new(Synthetic::new(spec.amount)),
             WorkloadKind::Render => Box::new(Render::new(spec)),
             WorkloadKind::Spray => Box::new(Spray::new(spec)),
+            WorkloadKind::Fog => Box::new(Fog::new(spec)),
         }
     }
 }

@@ -125,6 +125,7 @@ mod tests {
             spacing: 1.0,
             time_step: 1.0 / 60.0,
             spray: crate::workload::SprayParams::default(),
+            fog: Default::default(),
         }
     }
 

@@ -12,6 +12,7 @@ fn spec(n: usize, particles: u64, spray: SprayParams) -> WorkSpec {
         spacing: 2.0,
         time_step: 0.1,
         spray,
+        fog: Default::default(),
     }
 }
 
