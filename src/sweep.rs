@@ -28,25 +28,23 @@ pub fn cells(config: &SweepConfig) -> Vec<CellKey> {
     config.axes.cells()
 }
 
-/// The line saying which oceans' cells a sweep leaves out because `spray` cannot run on them,
-/// when it lists such an ocean beside one it can.
+/// The line saying which cells a sweep leaves out because `spray` cannot run on their ocean or
+/// grid, when it lists such a surface beside one it can.
 pub fn spray_skips(config: &SweepConfig) -> Option<String> {
     if !config.axes.workload_kind.contains(&WorkloadKind::Spray) {
         return None;
     }
-    let skipped: Vec<&str> = config
-        .axes
-        .ocean
-        .iter()
-        .filter(|o| WorkloadKind::Spray.check_ocean(**o).is_err())
-        .map(|o| o.name())
-        .collect();
-    (!skipped.is_empty()).then(|| {
-        format!(
-            "spray cells on the {} ocean skipped: spray needs the fft ocean's folds",
-            skipped.join(", ")
-        )
-    })
+    let mut reasons = Vec::new();
+    for &ocean in &config.axes.ocean {
+        for &grid in &config.axes.grid {
+            if let Err(e) = WorkloadKind::Spray.check_surface(ocean, grid) {
+                if !reasons.contains(&e.0) {
+                    reasons.push(e.0);
+                }
+            }
+        }
+    }
+    (!reasons.is_empty()).then(|| format!("spray cells skipped: {}", reasons.join("; ")))
 }
 
 /// Measures the workload speed and the yardstick (every listed size and every size a level

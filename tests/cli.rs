@@ -883,7 +883,7 @@ fn a_sweep_over_both_oceans_skips_the_spray_cells_on_sines_and_says_so_once() {
     ]);
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(run.status.success(), "{stderr}");
-    let note = "spray cells on the sines ocean skipped: spray needs the fft ocean's folds";
+    let note = "spray cells skipped: workload_kind: spray needs the fft ocean's folds";
     assert_eq!(stderr.matches(note).count(), 1, "{stderr}");
     let results = Results::load(&out.join("results.json")).unwrap();
     let oceans: Vec<OceanKind> = results.cells.iter().map(|c| c.key.ocean).collect();

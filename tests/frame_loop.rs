@@ -740,9 +740,14 @@ fn projected_meshes_are_bit_identical_in_every_mode_method_depth_and_helper_coun
         seen
     };
     let consumes = [Consume::Copy, Consume::Read, Consume::Handle];
-    for kernel in [Kernel::Reference, Kernel::Fast] {
+    for (ocean, kernel, n) in [
+        (OceanKind::Sines, Kernel::Reference, 9),
+        (OceanKind::Sines, Kernel::Fast, 9),
+        (OceanKind::Fft, Kernel::Reference, 16),
+    ] {
+        let grid = Grid::new(n, 0.75).unwrap();
         let mut serial = projected(Mode::Serial, SyncMethod::Atomic, Threading::Pool);
-        serial.kernel = kernel;
+        (serial.kernel, serial.ocean, serial.grid) = (kernel, ocean, grid);
         let serial = collect(&serial);
         assert_ne!(serial[0].1.x, serial[1].1.x, "the grid follows the camera");
         let mut runs = 0;
@@ -750,12 +755,12 @@ fn projected_meshes_are_bit_identical_in_every_mode_method_depth_and_helper_coun
             for (m, sync) in SyncMethod::of_policy(Policy::Fifo).enumerate() {
                 for helpers in 1..=3 {
                     let mut s = projected(mode, sync, Threading::Pool);
-                    s.kernel = kernel;
+                    (s.kernel, s.ocean, s.grid) = (kernel, ocean, grid);
                     s.helper_cores = with_helpers(mode, helpers);
                     s.depth = 1 + (m + helpers) % frame_loop::MAX_DEPTH;
                     s.consume = consumes[(m + helpers) % consumes.len()];
                     let what = format!(
-                        "{kernel:?} {mode:?} {sync:?} x{helpers} d{} {:?}",
+                        "{ocean:?} {kernel:?} {mode:?} {sync:?} x{helpers} d{} {:?}",
                         s.depth, s.consume
                     );
                     let got = collect(&s);
@@ -768,11 +773,11 @@ fn projected_meshes_are_bit_identical_in_every_mode_method_depth_and_helper_coun
                 }
             }
             let mut s = projected(mode, SyncMethod::Atomic, Threading::Spawn);
-            s.kernel = kernel;
+            (s.kernel, s.ocean, s.grid) = (kernel, ocean, grid);
             assert!(collect(&s) == serial, "{kernel:?} {mode:?} spawn");
             for sync in SyncMethod::of_policy(Policy::Latest) {
                 let mut s = projected(mode, sync, Threading::Pool);
-                (s.kernel, s.policy) = (kernel, Policy::Latest);
+                (s.kernel, s.ocean, s.grid, s.policy) = (kernel, ocean, grid, Policy::Latest);
                 let mut stepper = oceanbench::projected::stepper(
                     s.grid_kind,
                     s.ocean.model(),

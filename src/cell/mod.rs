@@ -274,7 +274,7 @@ impl CellKey {
     /// [`Axes::check_coverage`].
     pub fn coherent(&self) -> Result<(), InputError> {
         check_offers(self.ocean, self.ocean.model(), self.kernel, self.normals)?;
-        self.workload_kind.check_ocean(self.ocean)?;
+        self.workload_kind.check_surface(self.ocean, self.grid)?;
         crate::projected::check(
             self.grid,
             self.ocean.name(),
@@ -332,13 +332,13 @@ impl Axes {
                     continue;
                 }
                 if let Some(Err(reason)) = dropped.iter().find(has).map(CellKey::coherent) {
-                    // A kind that cannot work on a listed ocean (spray on sines) loses those
+                    // A kind that cannot work on a listed surface (spray on sines) loses those
                     // cells alone, which the sweep says once (`sweep::spray_skips`), unless
                     // nothing is left to run.
                     let kind_skips = dropped
                         .iter()
                         .filter(has)
-                        .all(|k| k.workload_kind.check_ocean(k.ocean).is_err());
+                        .all(|k| k.workload_kind.check_surface(k.ocean, k.grid).is_err());
                     if kind_skips && !kept.is_empty() {
                         continue;
                     }

@@ -16,7 +16,7 @@ pub use synthetic::{run, run_unless, Calibration, Synthetic};
 
 use crate::camera::Camera;
 use crate::input::InputError;
-use crate::ocean::{Grid, Mesh, OceanKind};
+use crate::ocean::{Grid, GridKind, Mesh, OceanKind};
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::AtomicBool;
 
@@ -145,10 +145,14 @@ impl WorkloadKind {
         }
     }
 
-    /// Refuses an ocean model the kind cannot work on (spray needs folds).
-    pub fn check_ocean(self, ocean: OceanKind) -> Result<(), InputError> {
+    /// Refuses a surface the kind cannot work on (spray needs the FFT ocean's folds on the
+    /// regular grid).
+    pub fn check_surface(self, ocean: OceanKind, grid: GridKind) -> Result<(), InputError> {
         match self {
-            WorkloadKind::Spray => spray::check_ocean(ocean.name(), ocean.model()),
+            WorkloadKind::Spray => {
+                spray::check_ocean(ocean.name(), ocean.model())?;
+                spray::check_grid(grid)
+            }
             _ => Ok(()),
         }
     }

@@ -2,6 +2,7 @@
 //! choppy displacements, slopes and the displacement's Jacobian from inverse 2-D FFTs of a
 //! Phillips spectrum sampled once per run; the fold value J and its direction per vertex.
 
+pub mod points;
 pub mod size;
 pub mod spectrum;
 pub mod transform;
@@ -10,7 +11,7 @@ pub mod transform;
 mod tests;
 
 use super::mesh::{Grid, Mesh, MeshRows};
-use super::model::{Kernel, Model, OceanParams, Stepper};
+use super::model::{GridKind, Kernel, Model, OceanParams, Stepper};
 use super::normals::{FaceNormals, NormalMethod};
 use crate::input::InputError;
 use glam::Vec3;
@@ -67,6 +68,23 @@ impl Model for FftOcean {
         (params.fft.patch_metres / grid.n as f64) as f32
     }
 
+    /// The patch repeats without a seam, so it can be sampled at any point of the plane.
+    fn grids(&self) -> &'static [GridKind] {
+        &[GridKind::Regular, GridKind::Projected]
+    }
+
+    /// The patch computed on its own N×N grid, sampled bilinearly at each placed vertex
+    /// ([`points::FftAtPoints`]).
+    fn prepare_at_points(
+        &self,
+        grid: Grid,
+        params: &OceanParams,
+        kernel: Kernel,
+    ) -> Result<Box<dyn Stepper>, InputError> {
+        let state = self.state(grid, params, NormalMethod::Analytic, kernel)?;
+        Ok(Box::new(points::FftAtPoints::new(state)))
+    }
+
     fn prepare(
         &self,
         grid: Grid,
@@ -74,6 +92,19 @@ impl Model for FftOcean {
         normals: NormalMethod,
         kernel: Kernel,
     ) -> Result<Box<dyn Stepper>, InputError> {
+        Ok(Box::new(self.state(grid, params, normals, kernel)?))
+    }
+}
+
+impl FftOcean {
+    /// The checked per-run state of a regular-grid step.
+    fn state(
+        &self,
+        grid: Grid,
+        params: &OceanParams,
+        normals: NormalMethod,
+        kernel: Kernel,
+    ) -> Result<FftState, InputError> {
         if !self.kernels().contains(&kernel) {
             return Err(InputError(format!(
                 "kernel: the fft ocean has one kernel, `reference`, not `{}`",
@@ -83,12 +114,12 @@ impl Model for FftOcean {
         self.check(grid.n, normals)?;
         params.fft.validate()?;
         let spectrum = Spectrum::new(&params.fft, grid.n);
-        Ok(Box::new(FftState::new(
+        Ok(FftState::new(
             &spectrum,
             params.fft.patch_metres,
             params.fft.choppiness,
             normals,
-        )))
+        ))
     }
 }
 

@@ -10,7 +10,7 @@ pub use pool::{Pool, Step, Surface, BYTES_PER_PARTICLE};
 
 use super::{Stopped, Work, WorkCounts, WorkSpec};
 use crate::input::InputError;
-use crate::ocean::{Grid, Mesh, Model};
+use crate::ocean::{Grid, GridKind, Mesh, Model};
 use crate::stats::SplitMix64;
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -130,6 +130,18 @@ pub fn check_ocean(ocean: &str, model: &dyn Model) -> Result<(), InputError> {
     }
     Err(InputError(format!(
         "workload_kind: spray needs the fft ocean's folds; the `{ocean}` ocean has none (J is 1 everywhere, nothing would be emitted): use ocean fft"
+    )))
+}
+
+/// Refuses a grid other than the regular one: a particle finds the surface under it in the
+/// rest-grid cell it is over, which a projected mesh does not have.
+pub fn check_grid(grid: GridKind) -> Result<(), InputError> {
+    if grid == GridKind::Regular {
+        return Ok(());
+    }
+    Err(InputError(format!(
+        "grid: spray finds the surface under each particle in the regular grid's cells; it runs on the `regular` grid, not `{}`",
+        grid.name()
     )))
 }
 

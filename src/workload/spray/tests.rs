@@ -1,6 +1,6 @@
 use super::*;
 use crate::camera::Camera;
-use crate::ocean::{FftParams, Kernel, NormalMethod, OceanKind, OceanParams};
+use crate::ocean::{FftParams, GridKind, Kernel, NormalMethod, OceanKind, OceanParams};
 use crate::workload::WorkloadKind;
 
 fn spec(n: usize, particles: u64, spray: SprayParams) -> WorkSpec {
@@ -255,4 +255,14 @@ fn only_a_folding_ocean_takes_spray() {
         e.starts_with("workload_kind: spray needs the fft ocean's folds"),
         "{e}"
     );
+}
+
+#[test]
+fn only_the_regular_grid_takes_spray() {
+    assert!(check_grid(GridKind::Regular).is_ok());
+    let e = check_grid(GridKind::Projected).unwrap_err().0;
+    assert!(e.starts_with("grid: spray"), "{e}");
+    assert!(e.contains("`regular`") && e.contains("`projected`"), "{e}");
+    let fft = WorkloadKind::Spray.check_surface(OceanKind::Fft, GridKind::Projected);
+    assert_eq!(fft.unwrap_err().0, e);
 }
