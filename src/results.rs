@@ -210,8 +210,11 @@ impl Placement {
 /// per-trial records and the threshold is 10. 4: the run records its `command` line, and the
 /// config may carry `fft_params` (the FFT ocean's), and the yardsticks `model_step_ms` (every
 /// model's step but the sines'); absent, the command was not recorded, the FFT ocean takes its
-/// defaults and only the sines were measured.
-pub const SCHEMA_VERSION: u32 = 4;
+/// defaults and only the sines were measured. 5: cells carry `grid`, spray's per-trial
+/// `particles` and a kind's own `work` record (the fog's), the config `spray`, `fog` and the
+/// camera's `far` and `path`, and a balance entry its `unit_cost`; absent, the regular grid, no
+/// particle or work records, the defaults, a still camera and a balance in microseconds.
+pub const SCHEMA_VERSION: u32 = 5;
 
 /// Files written before the field existed have today's layout, version 1.
 fn version_1() -> u32 {

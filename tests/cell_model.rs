@@ -158,38 +158,80 @@ fn every_dimension_has_test_values() {
     }
 }
 
-/// Every dimension's value, with one cell, reaches its CSV column, its results.json field and
-/// `compare --by`, and every label shows it unless it is the dimension's quiet value. A
-/// single-valued dimension (the ocean, for now) is covered here only.
+/// Test values for the named values past `case`'s pair, with the config keys each needs.
+fn more(dim: Dim) -> Vec<(serde_json::Value, serde_json::Value)> {
+    match dim {
+        Dim::WorkloadKind => vec![
+            (
+                json!("spray"),
+                json!({"ocean": ["fft"], "normals": ["analytic"],
+                       "workload_levels": [{"particles": 100}]}),
+            ),
+            (json!("fog"), json!({"workload_levels": [{"volume": 4}]})),
+        ],
+        Dim::Sync => vec![(json!("triple-buffer"), json!({"policy": ["latest"]}))],
+        _ => Vec::new(),
+    }
+}
+
+/// One cell of `dim` = `value` (with the `extra` keys it needs) reaches its CSV column, its
+/// results.json field and `compare --by`, and every label shows it unless it is the dimension's
+/// quiet value.
+fn reaches_every_output(dim: Dim, value: serde_json::Value, extra: serde_json::Value) {
+    let config = config_with(dim, vec![value], extra);
+    let cells = config.axes.cells();
+    assert_eq!(cells.len(), 1, "{dim}: {cells:?}");
+    let key = cells[0].clone();
+    let value = key.get(dim).unwrap();
+    let r = results(config, vec![cell(key.clone(), 125.0)]);
+
+    assert_eq!(csv_column(&r, dim), [value.to_string()], "{dim}");
+
+    let json: serde_json::Value =
+        serde_json::from_str(&oceanbench::report::json::to_string(&r).unwrap()).unwrap();
+    assert_eq!(
+        json["cells"][0][dim.name()].to_string().trim_matches('"'),
+        value.to_string(),
+        "{dim}: results.json"
+    );
+
+    let shown = key.label().split(' ').any(|w| w == dim.label(value));
+    assert_eq!(shown, Some(value) != dim.quiet(), "{dim}: {}", key.label());
+
+    let by = compare::within(&r, dim, &value.to_string(), 5.0, Metric::Fps).unwrap_err();
+    assert!(
+        matches!(by, compare::CompareError::NoAlternative { .. }),
+        "{dim}: {by}"
+    );
+}
+
+/// Every dimension's first value reaches every output; a single-valued dimension is covered
+/// here only.
 #[test]
 fn every_value_reaches_csv_json_labels_and_compare() {
     for &dim in Dim::ALL {
         let (a, _, extra) = case(dim).unwrap();
-        let config = config_with(dim, vec![a], extra);
-        let cells = config.axes.cells();
-        assert_eq!(cells.len(), 1, "{dim}: {cells:?}");
-        let key = cells[0].clone();
-        let value = key.get(dim).unwrap();
-        let r = results(config, vec![cell(key.clone(), 125.0)]);
+        reaches_every_output(dim, a, extra);
+    }
+}
 
-        assert_eq!(csv_column(&r, dim), [value.to_string()], "{dim}");
-
-        let json: serde_json::Value =
-            serde_json::from_str(&oceanbench::report::json::to_string(&r).unwrap()).unwrap();
-        assert_eq!(
-            json["cells"][0][dim.name()].to_string().trim_matches('"'),
-            value.to_string(),
-            "{dim}: results.json"
-        );
-
-        let shown = key.label().split(' ').any(|w| w == dim.label(value));
-        assert_eq!(shown, Some(value) != dim.quiet(), "{dim}: {}", key.label());
-
-        let by = compare::within(&r, dim, &value.to_string(), 5.0, Metric::Fps).unwrap_err();
-        assert!(
-            matches!(by, compare::CompareError::NoAlternative { .. }),
-            "{dim}: {by}"
-        );
+/// Every named value of every dimension, not only the pair the other tests walk: each reaches
+/// every output, with the config keys `more` gives it or `case`'s; a value added to an enum (a
+/// third workload kind, say) that needs other keys fails here until `more` gives them.
+#[test]
+fn every_named_value_reaches_every_output() {
+    for &dim in Dim::ALL {
+        let Some(names) = dim.names() else { continue };
+        let (_, _, extra) = case(dim).unwrap();
+        let special = more(dim);
+        for name in names {
+            let (value, extra) = special
+                .iter()
+                .find(|(v, _)| v == &json!(name))
+                .cloned()
+                .unwrap_or_else(|| (json!(name), extra.clone()));
+            reaches_every_output(dim, value, extra);
+        }
     }
 }
 

@@ -108,7 +108,7 @@ fn bad_configs_exit_2_naming_the_field() {
         (r#"{"ocean": ["sines", "sines"]}"#, vec!["ocean", "twice"]),
         (
             r#"{"workload_kind": ["synthetic", "clouds"]}"#,
-            vec!["workload_kind[1]", "synthetic, render, fog"],
+            vec!["workload_kind[1]", "synthetic, render, spray, fog"],
         ),
         (
             r#"{"workload_kind": ["fog"], "workloads": [0], "workload_levels": [{"volume": 600}]}"#,
