@@ -2,9 +2,11 @@
 //! choppy displacements, slopes and the displacement's Jacobian from inverse 2-D FFTs of a
 //! Phillips spectrum sampled once per run; the fold value J and its direction per vertex.
 
+mod fill;
 pub mod points;
 pub mod size;
 pub mod spectrum;
+pub mod terms;
 pub mod transform;
 
 #[cfg(test)]
@@ -14,25 +16,26 @@ use super::mesh::{Grid, Mesh, MeshRows};
 use super::model::{GridKind, Kernel, Model, OceanParams, Stepper};
 use super::normals::{FaceNormals, NormalMethod};
 use crate::input::InputError;
-use glam::Vec3;
+use fill::{Fill, Source};
 use parking_lot::RwLock;
 use rustfft::num_complex::Complex;
 pub use size::check_size;
 use spectrum::Spectrum;
-use std::f64::consts::TAU;
 use std::ops::Range;
 use std::sync::Arc;
-use transform::Inverse2d;
+use terms::Terms;
+use transform::{Inverse2d, Strips};
 
 /// The FFT ocean model.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FftOcean;
 
 impl Model for FftOcean {
-    /// One implementation, listed under the default kernel's name; its oracle is the direct
-    /// sum of [`Spectrum::fields_f64`] in the tests.
+    /// `reference`: eight fields from four transforms, checked against the direct sum of
+    /// [`Spectrum::fields_f64`] in the tests; `fast`: the same heights and displacements from
+    /// two of them, slopes and the Jacobian's diagonal from differences ([`fill`]).
     fn kernels(&self) -> &'static [Kernel] {
-        &[Kernel::Reference]
+        &[Kernel::Reference, Kernel::Fast]
     }
 
     fn normals(&self) -> &'static [NormalMethod] {
@@ -105,118 +108,68 @@ impl FftOcean {
         normals: NormalMethod,
         kernel: Kernel,
     ) -> Result<FftState, InputError> {
-        if !self.kernels().contains(&kernel) {
-            return Err(InputError(format!(
-                "kernel: the fft ocean has one kernel, `reference`, not `{}`",
-                kernel.name()
-            )));
-        }
         self.check(grid.n, normals)?;
         params.fft.validate()?;
         let spectrum = Spectrum::new(&params.fft, grid.n);
-        Ok(FftState::new(
+        Ok(FftState::with_kernel(
             &spectrum,
             params.fft.patch_metres,
             params.fft.choppiness,
             normals,
+            kernel,
         ))
     }
 }
 
-/// The sampled spectrum in the transforms' layout (b·N + a, see [`Inverse2d`]), in f32 but for
-/// ω, kept in f64 so that ωt keeps its fraction of a turn at large t.
+/// The per-step machinery of a step or of one band of it: the spectrum's terms, the plan, and
+/// the row and column passes' scratch.
 #[derive(Clone, Debug)]
-struct Terms {
-    /// Wavenumber of each index (the same for x and y: the patch is square).
-    k: Vec<f32>,
-    /// h̃₀(k).
-    h0: Vec<Complex<f32>>,
-    /// conj(h̃₀(−k)).
-    h0_minus: Vec<Complex<f32>>,
-    omega: Vec<f64>,
-    /// 1/|k| (0 at k = 0).
-    inv_k: Vec<f32>,
-    /// ∂Dx/∂y shares a transform with h, which is larger by about |k|⁻¹ and would drown it in
-    /// the transform's rounding: it is packed times this power of two, near h's RMS over its.
-    dxy_scale: f32,
+struct Passes {
+    n: usize,
+    /// Complex transforms per step: 4 for `reference`, 2 for `fast`.
+    transforms: usize,
+    terms: Arc<Terms>,
+    inverse: Inverse2d,
+    /// A few rows of each spectrum at t, transformed while they are in L1 (made on first use).
+    spectra: Vec<Vec<Complex<f32>>>,
+    /// The column pass's output rows of each transform.
+    columns: Vec<Vec<Complex<f32>>>,
 }
 
-impl Terms {
-    fn new(spectrum: &Spectrum) -> Self {
-        let n = spectrum.n();
-        let transposed = |f: &dyn Fn(usize, usize) -> Complex<f64>| -> Vec<Complex<f32>> {
-            (0..n)
-                .flat_map(|b| (0..n).map(move |a| (a, b)))
-                .map(|(a, b)| {
-                    let c = f(a, b);
-                    Complex::new(c.re as f32, c.im as f32)
-                })
-                .collect()
-        };
-        let inv_k = transposed(&|a, b| {
-            let (kx, ky) = spectrum.wave_vector(a, b);
-            let k = kx.hypot(ky);
-            Complex::new(if k > 0.0 { 1.0 / k } else { 0.0 }, 0.0)
-        });
-        let (mut h_power, mut dxy_power) = (0.0, 0.0);
-        for a in 0..n {
-            for b in 0..n {
-                let (kx, ky) = spectrum.wave_vector(a, b);
-                let p = spectrum.h0(a, b).norm_sqr();
-                h_power += p;
-                dxy_power += p * (kx * ky).powi(2) / (kx * kx + ky * ky).max(f64::MIN_POSITIVE);
-            }
+impl Passes {
+    /// Rows `rows` of the spectra at t, transformed and scattered into `out`'s strips.
+    fn row_pass(&mut self, t: f32, rows: Range<usize>, out: &mut [&mut Strips]) {
+        let n = self.n;
+        // About 8 KiB a transform, so that the batch of every transform stays in L1.
+        let batch = (1024 / n).max(1);
+        for spectrum in &mut self.spectra {
+            spectrum.resize(batch * n, Complex::default());
         }
-        let ratio = (h_power / dxy_power).sqrt();
-        let dxy_scale = if ratio.is_finite() && ratio > 0.0 {
-            2f32.powi(ratio.log2().round().clamp(-60.0, 60.0) as i32)
-        } else {
-            1.0
-        };
-        Terms {
-            dxy_scale,
-            k: (0..n)
-                .map(|m| spectrum.wave_vector(0, m).0 as f32)
-                .collect(),
-            h0: transposed(&|a, b| spectrum.h0(a, b)),
-            h0_minus: transposed(&|a, b| spectrum.h0_minus(a, b)),
-            omega: (0..n)
-                .flat_map(|b| (0..n).map(move |a| (a, b)))
-                .map(|(a, b)| spectrum.omega(a, b))
-                .collect(),
-            inv_k: inv_k.into_iter().map(|c| c.re).collect(),
-        }
-    }
-
-    /// The four packed spectra at time t of the transposed rows `rows` (x-wavenumber indices),
-    /// row `rows.start` at the start of each of `out`.
-    fn spectra(&self, t: f32, rows: Range<usize>, out: [&mut [Complex<f32>]; 4]) {
-        let n = self.k.len();
-        let t = t as f64;
-        let [f0, f1, f2, f3] = out;
-        for b in rows.clone() {
-            let kx = self.k[b];
-            for a in 0..n {
-                let (e, o) = (b * n + a, (b - rows.start) * n + a);
-                let ky = self.k[a];
-                let ik = self.inv_k[e];
-                let h = self.coefficient(e, t);
-                f0[o] = h * Complex::new(1.0, kx * ky * ik * self.dxy_scale);
-                f1[o] = h * Complex::new(ky * ik, -kx * ik);
-                f2[o] = h * Complex::new(-ky, kx);
-                f3[o] = h * Complex::new(kx * kx * ik, ky * ky * ik);
+        self.spectra
+            .resize(self.transforms, vec![Complex::default(); batch * n]);
+        for first in rows.clone().step_by(batch) {
+            let chunk = first..(first + batch).min(rows.end);
+            let mut bufs: Vec<&mut [Complex<f32>]> = self
+                .spectra
+                .iter_mut()
+                .map(|s| &mut s[..chunk.len() * n])
+                .collect();
+            self.terms.spectra(t, chunk.clone(), &mut bufs);
+            for (buf, strips) in bufs.into_iter().zip(out.iter_mut()) {
+                self.inverse.row_pass(buf, first, strips);
             }
         }
     }
 
-    /// h̃(k, t) = h̃₀(k)·e^{iωt} + conj(h̃₀(−k))·e^{−iωt} at element e.
-    fn coefficient(&self, e: usize, t: f64) -> Complex<f32> {
-        let phase = self.omega[e] * t;
-        // Whole turns dropped by truncation (a cast, where `floor` is a libm call on the
-        // baseline x86-64 target): the rest lies within one turn of 0 either side.
-        let (s, c) = ((phase - TAU * (phase / TAU) as i64 as f64) as f32).sin_cos();
-        let turn = Complex::new(c, s);
-        self.h0[e] * turn + self.h0_minus[e] * turn.conj()
+    /// The output rows `ranges` of every transform, from the row pass's `parts` (per
+    /// transform, together every row).
+    fn column_pass(&mut self, parts: &[Vec<&Strips>], ranges: &[Range<usize>]) {
+        let rows: usize = ranges.iter().map(|r| r.len()).sum();
+        self.columns.resize(self.transforms, Vec::new());
+        for (column, parts) in self.columns.iter_mut().zip(parts) {
+            column.resize(rows * self.n, Complex::default());
+            self.inverse.column_pass(parts, ranges, column);
+        }
     }
 }
 
@@ -224,139 +177,141 @@ impl Terms {
 ///
 /// Eight real fields come out of four complex transforms, two per transform (a + ib, both
 /// Hermitian, transforms to A + iB): (h, ∂Dx/∂y · [`Terms::dxy_scale`]), (Dx, Dy),
-/// (∂h/∂x, ∂h/∂y), (∂Dx/∂x, ∂Dy/∂y).
+/// (∂h/∂x, ∂h/∂y), (∂Dx/∂x, ∂Dy/∂y); the `fast` kernel makes the first two and takes the rest
+/// from differences ([`fill`]).
 #[derive(Clone, Debug)]
 pub struct FftState {
     n: usize,
-    /// L ÷ N in metres.
-    spacing: f32,
-    choppiness: f32,
+    kernel: Kernel,
     normals: NormalMethod,
+    fill: Fill,
     faces: Option<FaceNormals>,
-    terms: Terms,
-    fields: [Vec<Complex<f32>>; 4],
-    inverse: Inverse2d,
+    passes: Passes,
+    /// The whole row pass of each transform (made on first use: a state split among helpers
+    /// never needs it).
+    strips: Vec<Strips>,
 }
 
 impl FftState {
-    /// The state for `spectrum` on a patch of `patch_metres`.
+    /// The state for `spectrum` on a patch of `patch_metres`, with the `reference` kernel.
     pub fn new(
         spectrum: &Spectrum,
         patch_metres: f64,
         choppiness: f64,
         normals: NormalMethod,
     ) -> Self {
+        Self::with_kernel(
+            spectrum,
+            patch_metres,
+            choppiness,
+            normals,
+            Kernel::Reference,
+        )
+    }
+
+    /// The state for `spectrum` on a patch of `patch_metres` with `kernel` (`reference`: four
+    /// transforms; `fast`: two and differences).
+    pub fn with_kernel(
+        spectrum: &Spectrum,
+        patch_metres: f64,
+        choppiness: f64,
+        normals: NormalMethod,
+        kernel: Kernel,
+    ) -> Self {
         let n = spectrum.n();
         let grid = Grid::new(n, (patch_metres / n as f64) as f32).expect("a checked size");
+        let terms = Terms::new(spectrum);
         FftState {
             n,
-            spacing: grid.spacing,
-            choppiness: choppiness as f32,
+            kernel,
             normals,
+            fill: Fill {
+                n,
+                spacing: grid.spacing,
+                lambda: choppiness as f32,
+                // Exact: the scale is a power of two.
+                unscale: 1.0 / terms.dxy_scale,
+                analytic: normals == NormalMethod::Analytic,
+            },
             faces: (normals == NormalMethod::Neighbors).then(|| FaceNormals::new(grid)),
-            terms: Terms::new(spectrum),
-            fields: Default::default(),
-            inverse: Inverse2d::new(n),
+            passes: Passes {
+                n,
+                transforms: match kernel {
+                    Kernel::Reference => 4,
+                    Kernel::Fast => 2,
+                },
+                terms: Arc::new(terms),
+                inverse: Inverse2d::new(n),
+                spectra: Vec::new(),
+                columns: Vec::new(),
+            },
+            strips: Vec::new(),
         }
     }
 
     /// Vertex spacing L ÷ N in metres.
     pub fn spacing(&self) -> f32 {
-        self.spacing
+        self.fill.spacing
     }
 
-    /// The four packed spectra at time t (see [`FftState`]), then their transforms. The
-    /// buffers are made on first use: a state split among helpers never needs them.
-    pub fn transform(&mut self, t: f32) {
+    /// The column pass's output rows for the mesh rows `band`: the band, and for differences
+    /// the row above it and the row below it (wrapped).
+    fn ranges(&self, band: Range<usize>) -> Vec<Range<usize>> {
         let n = self.n;
-        for field in &mut self.fields {
-            field.resize(n * n, Complex::default());
-        }
-        let [f0, f1, f2, f3] = &mut self.fields;
-        self.terms.spectra(t, 0..n, [f0, f1, f2, f3]);
-        for field in &mut self.fields {
-            self.inverse.process(field);
-        }
-    }
-
-    /// The unpacked fields into one band of rows: displaced positions, heights, fold value and
-    /// direction, and the analytic normal when asked for. `fields` start at the band's first
-    /// row.
-    fn fill(&self, fields: [&[Complex<f32>]; 4], rows: MeshRows<'_>) {
-        let n = self.n;
-        let lambda = self.choppiness;
-        let analytic = self.normals == NormalMethod::Analytic;
-        let [hd, dxy, slope, dd] = fields;
-        // Exact: the scale is a power of two.
-        let unscale = 1.0 / self.terms.dxy_scale;
-        for r in 0..rows.rows() {
-            let i = rows.first_row + r;
-            for j in 0..n {
-                let v = r * n + j;
-                let (hd, dxy, slope, dd) = (hd[v], dxy[v], slope[v], dd[v]);
-                rows.x[v] = j as f32 * self.spacing + lambda * dxy.re;
-                rows.y[v] = i as f32 * self.spacing + lambda * dxy.im;
-                rows.z[v] = hd.re;
-                // The Jacobian of (x, y) ↦ (x + λDx, y + λDy): [[a, b], [b, d]].
-                let a = 1.0 + lambda * dd.re;
-                let d = 1.0 + lambda * dd.im;
-                let b = lambda * hd.im * unscale;
-                rows.fold[v] = a * d - b * b;
-                let (dx, dy) = compressing_direction(a, b, d);
-                rows.fold_dx[v] = dx;
-                rows.fold_dy[v] = dy;
-                if analytic {
-                    // The cross product of the displaced surface's tangents ∂/∂x and ∂/∂y.
-                    let tx = Vec3::new(a, b, slope.re);
-                    let ty = Vec3::new(b, d, slope.im);
-                    let normal = tx.cross(ty).normalize_or(Vec3::Z);
-                    rows.nx[v] = normal.x;
-                    rows.ny[v] = normal.y;
-                    rows.nz[v] = normal.z;
-                }
+        match self.kernel {
+            Kernel::Reference => vec![band],
+            Kernel::Fast => {
+                let (above, below) = ((band.start + n - 1) % n, band.end % n);
+                vec![above..above + 1, band, below..below + 1]
             }
         }
     }
-}
 
-/// The unit eigenvector of the smaller eigenvalue of the symmetric [[a, b], [b, d]], the
-/// direction in which the surface compresses; (0, 1) where every direction is one.
-fn compressing_direction(a: f32, b: f32, d: f32) -> (f32, f32) {
-    let half = 0.5 * (a - d);
-    let r = (half * half + b * b).sqrt();
-    // Of the two rows of M − μI, μ = (a + d)/2 − r, the one with the larger diagonal entry
-    // (h + r or r − h) gives the eigenvector without cancellation.
-    let (x, y) = if half >= 0.0 {
-        (-b, half + r)
-    } else {
-        (r - half, -b)
-    };
-    let len = (x * x + y * y).sqrt();
-    if len > 0.0 {
-        (x / len, y / len)
-    } else {
-        (0.0, 1.0)
+    /// The spectra at t and their whole row pass.
+    fn whole_row_pass(&mut self, t: f32) {
+        let n = self.n;
+        self.strips
+            .resize_with(self.passes.transforms, || Strips::new(n, 0..n));
+        let mut out: Vec<&mut Strips> = self.strips.iter_mut().collect();
+        self.passes.row_pass(t, 0..n, &mut out);
     }
-}
 
-impl FftState {
-    /// The whole transforms' rows from `first_row` on, for [`FftState::fill`].
-    fn whole_fields(&self, first_row: usize) -> [&[Complex<f32>]; 4] {
-        let start = first_row * self.n;
-        std::array::from_fn(|f| &self.fields[f][start..])
+    /// The packed spectra at time t (see [`FftState`]) and their transforms, the mesh's rows
+    /// `band` of them (and the rows beside it that differences read) in the column pass's
+    /// output.
+    fn transform_band(&mut self, t: f32, band: Range<usize>) {
+        self.whole_row_pass(t);
+        let parts: Vec<Vec<&Strips>> = self.strips.iter().map(|s| vec![s]).collect();
+        let ranges = self.ranges(band);
+        self.passes.column_pass(&parts, &ranges);
+    }
+
+    /// The spectra at t and their transforms, every row: what a whole step computes before it
+    /// fills the mesh.
+    pub fn transform(&mut self, t: f32) {
+        self.transform_band(t, 0..self.n);
+    }
+
+    /// The column pass's output, as the fill reads it.
+    fn source(&self) -> Source<'_> {
+        let c = &self.passes.columns;
+        match self.kernel {
+            Kernel::Reference => Source::Spectral([&c[0], &c[1], &c[2], &c[3]]),
+            Kernel::Fast => Source::Differences([&c[0], &c[1]]),
+        }
     }
 }
 
 impl Stepper for FftState {
     fn step(&mut self, t: f32, mesh: &mut Mesh) {
         self.transform(t);
-        self.fill(self.whole_fields(0), mesh.rows_mut(0..self.n));
+        self.fill.fill(self.source(), mesh.rows_mut(0..self.n));
         if let Some(faces) = &mut self.faces {
             faces.compute(mesh, self.normals);
         }
     }
 
-    /// Correct but whole: the band needs every row's transforms, so this computes them all;
+    /// Correct but whole: the band needs every row's row pass, so this computes it all;
     /// helpers sharing a mesh step the phases of [`FftState::split`]'s band steppers instead.
     fn step_rows(&mut self, t: f32, rows: MeshRows<'_>) {
         assert_eq!(
@@ -364,8 +319,9 @@ impl Stepper for FftState {
             NormalMethod::Analytic,
             "step_rows needs analytic normals"
         );
-        self.transform(t);
-        self.fill(self.whole_fields(rows.first_row), rows);
+        let band = rows.first_row..rows.first_row + rows.rows();
+        self.transform_band(t, band);
+        self.fill.fill(self.source(), rows);
     }
 
     fn boxed_clone(&self) -> Box<dyn Stepper> {
@@ -376,95 +332,82 @@ impl Stepper for FftState {
         let n = self.n;
         let shared = Arc::new(RowPasses {
             bands: bands.to_vec(),
-            fields: bands
+            parts: bands
                 .iter()
                 .map(|r| {
-                    std::array::from_fn(|_| RwLock::new(vec![Complex::default(); r.len() * n]))
+                    (0..self.passes.transforms)
+                        .map(|_| RwLock::new(Strips::new(n, r.clone())))
+                        .collect()
                 })
                 .collect(),
         });
         let alone = FftState {
-            fields: Default::default(),
+            strips: Vec::new(),
             ..self.clone()
         };
-        bands
-            .iter()
-            .enumerate()
-            .map(|(band, r)| {
+        (0..bands.len())
+            .map(|band| {
                 Box::new(FftBand {
                     whole: alone.clone(),
                     band,
                     shared: Arc::clone(&shared),
-                    columns: std::array::from_fn(|_| vec![Complex::default(); r.len() * n]),
                 }) as Box<dyn Stepper>
             })
             .collect()
     }
 }
 
-/// Output rows a column pass gathers at once.
-const GATHER: usize = 8;
-
-/// The first pass of every band of a split step, shared by its helpers: band h's transposed
-/// rows (x-wavenumber indices in its rows) of each field, written in phase 0 by helper h alone
+/// The row passes of every band of a split step, shared by its helpers: band h's rows
+/// (x-wavenumber indices in its rows) of each transform, written in phase 0 by helper h alone
 /// and read by every helper in phase 1. The locks are never contended when the frame loop's
 /// barrier orders the phases; they make a misordered use wrong rather than unsound.
 #[derive(Debug)]
 struct RowPasses {
     bands: Vec<Range<usize>>,
-    fields: Vec<[RwLock<Vec<Complex<f32>>>; 4]>,
+    /// Per band, per transform.
+    parts: Vec<Vec<RwLock<Strips>>>,
 }
 
 /// One helper's part of an FFT step split among helpers by rows: phase 0 builds its band's
-/// rows of the four spectra and transforms them; phase 1 gathers its band's columns from every
-/// band (the transpose), transforms them and fills its rows of the mesh. The result is
-/// bit-identical to [`FftState::step`]: every row is the same transform of the same values.
+/// rows of the spectra and their row pass; phase 1 gathers its band's columns from every
+/// band, transforms them and fills its rows of the mesh. The result is bit-identical to
+/// [`FftState::step`]: every row and column is the same transform of the same values.
 #[derive(Clone, Debug)]
 pub struct FftBand {
-    /// The per-run state: terms, plan, and whole buffers for [`Stepper::step`] alone.
+    /// The per-run state: terms, plan, and scratch for [`Stepper::step`] alone.
     whole: FftState,
     band: usize,
     shared: Arc<RowPasses>,
-    /// This band's rows after the transpose and the second pass, one buffer per field.
-    columns: [Vec<Complex<f32>>; 4],
 }
 
 impl FftBand {
-    /// Phase 0: this band's rows of the four spectra at t, and their row pass.
+    /// Phase 0: this band's rows of the spectra at t, and their row pass.
     fn row_pass(&mut self, t: f32) {
         let rows = self.shared.bands[self.band].clone();
-        let mut out = self.shared.fields[self.band].each_ref().map(|f| f.write());
-        let [f0, f1, f2, f3] = &mut out;
-        self.whole.terms.spectra(t, rows, [f0, f1, f2, f3]);
-        for field in &mut out {
-            self.whole.inverse.rows(field);
-        }
+        let mut guards: Vec<_> = self.shared.parts[self.band]
+            .iter()
+            .map(|p| p.write())
+            .collect();
+        let mut out: Vec<&mut Strips> = guards.iter_mut().map(|g| &mut **g).collect();
+        self.whole.passes.row_pass(t, rows, &mut out);
     }
 
-    /// Phase 1: this band's columns of every band's rows (its rows of the transposed fields),
-    /// their pass, and the mesh rows they make.
+    /// Phase 1: this band's rows of the column pass (and the rows beside it that differences
+    /// read), from every band's row pass, and the mesh rows they make.
     fn column_pass(&mut self, rows: MeshRows<'_>) {
-        let n = self.whole.n;
-        let mine = self.shared.bands[self.band].clone();
-        for (f, column) in self.columns.iter_mut().enumerate() {
-            for (band, from) in self.shared.bands.iter().zip(&self.shared.fields) {
-                let from = from[f].read();
-                // Eight output rows at a time: rows N apart share a cache set, and eight fit
-                // its ways, so each output line stays in L1 while it fills.
-                for i0 in (0..mine.len()).step_by(GATHER) {
-                    let i1 = (i0 + GATHER).min(mine.len());
-                    for (r, b) in band.clone().enumerate() {
-                        let at = r * n + mine.start;
-                        for (i, value) in (i0..i1).zip(&from[at + i0..at + i1]) {
-                            column[i * n + b] = *value;
-                        }
-                    }
-                }
-            }
-            self.whole.inverse.rows(column);
-        }
-        let fields = self.columns.each_ref().map(|c| c.as_slice());
-        self.whole.fill(fields, rows);
+        let band = self.shared.bands[self.band].clone();
+        let guards: Vec<Vec<_>> = self
+            .shared
+            .parts
+            .iter()
+            .map(|band| band.iter().map(|p| p.read()).collect())
+            .collect();
+        let parts: Vec<Vec<&Strips>> = (0..self.whole.passes.transforms)
+            .map(|f| guards.iter().map(|band| &*band[f]).collect())
+            .collect();
+        let ranges = self.whole.ranges(band);
+        self.whole.passes.column_pass(&parts, &ranges);
+        self.whole.fill.fill(self.whole.source(), rows);
     }
 }
 

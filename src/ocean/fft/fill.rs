@@ -1,0 +1,257 @@
+//! The mesh rows from the transforms' output rows: displaced positions, heights, the fold value
+//! J and its direction, and the analytic normal. Two sources of the derivatives:
+//!
+//! - `reference`: the spectral ones, from four transforms;
+//! - `fast`: slopes and the Jacobian's diagonal from central differences of the displaced
+//!   surface (two transforms: heights and displacements, whose transform also carries
+//!   ∂Dx/∂y, the Jacobian's off-diagonal, for free), as real-time oceans do.
+//!
+//! Each row is done in two passes over L1: the source's derivatives into row scratch, then the
+//! vertex values from them, both written branch-free over whole rows so that they vectorise; the
+//! same IEEE operations run on every instruction set (no fused multiply-add is formed), so
+//! helpers agree bit for bit whichever set each runs.
+
+use crate::ocean::mesh::MeshRows;
+use rustfft::num_complex::Complex;
+
+/// Where a band's derivatives come from: the column pass's output rows of each transform.
+#[derive(Clone, Copy, Debug)]
+pub enum Source<'a> {
+    /// The four transforms' rows of the band: (h, ∂Dx/∂y·scale), (Dx, Dy), (∂h/∂x, ∂h/∂y),
+    /// (∂Dx/∂x, ∂Dy/∂y).
+    Spectral([&'a [Complex<f32>]; 4]),
+    /// The first two transforms' rows of the band with the row above it first and the row
+    /// below it last (wrapped around the patch).
+    Differences([&'a [Complex<f32>]; 2]),
+}
+
+/// What the fill needs of the run: the grid and the surface's parameters.
+#[derive(Clone, Copy, Debug)]
+pub struct Fill {
+    /// Vertices per side.
+    pub n: usize,
+    /// L ÷ N in metres.
+    pub spacing: f32,
+    /// λ, the choppiness.
+    pub lambda: f32,
+    /// 1 ÷ the packing scale of ∂Dx/∂y (a power of two, so exact).
+    pub unscale: f32,
+    /// Whether to write the analytic normal (otherwise face normals follow).
+    pub analytic: bool,
+}
+
+/// One row's derivatives: the Jacobian [[a, b], [b, d]] of (x, y) ↦ (x + λDx, y + λDy) and the
+/// height's slopes.
+struct Derivatives {
+    a: Vec<f32>,
+    b: Vec<f32>,
+    d: Vec<f32>,
+    sx: Vec<f32>,
+    sy: Vec<f32>,
+}
+
+impl Fill {
+    /// Fills `rows` from `source`, which starts at the band's first row.
+    pub fn fill(&self, source: Source<'_>, rows: MeshRows<'_>) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if is_x86_feature_detected!("avx512f") {
+                // SAFETY: the CPU has AVX-512F, checked above.
+                return unsafe { self.fill_avx512(source, rows) };
+            }
+            if is_x86_feature_detected!("avx2") {
+                // SAFETY: the CPU has AVX2, checked above.
+                return unsafe { self.fill_avx2(source, rows) };
+            }
+        }
+        self.fill_rows(source, rows)
+    }
+
+    /// `fill_rows` compiled for AVX-512.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx2")]
+    fn fill_avx512(&self, source: Source<'_>, rows: MeshRows<'_>) {
+        self.fill_rows(source, rows)
+    }
+
+    /// `fill_rows` compiled for AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn fill_avx2(&self, source: Source<'_>, rows: MeshRows<'_>) {
+        self.fill_rows(source, rows)
+    }
+
+    #[inline(always)]
+    fn fill_rows(&self, source: Source<'_>, rows: MeshRows<'_>) {
+        let n = self.n;
+        let mut der = Derivatives {
+            a: vec![0.0; n],
+            b: vec![0.0; n],
+            d: vec![0.0; n],
+            sx: vec![0.0; n],
+            sy: vec![0.0; n],
+        };
+        for r in 0..rows.rows() {
+            let v = r * n..(r + 1) * n;
+            let (hd, disp) = match source {
+                Source::Spectral([hd, disp, slope, dd]) => {
+                    let (hd, disp) = (&hd[v.clone()], &disp[v.clone()]);
+                    self.spectral(hd, &slope[v.clone()], &dd[v.clone()], &mut der);
+                    (hd, disp)
+                }
+                Source::Differences([hd, disp]) => {
+                    // Row r of the band is row r + 1 of the source.
+                    let hds = [0, 1, 2].map(|k| &hd[(r + k) * n..(r + k + 1) * n]);
+                    let disps = [0, 1, 2].map(|k| &disp[(r + k) * n..(r + k + 1) * n]);
+                    self.differences(hds, disps, &mut der);
+                    (hds[1], disps[1])
+                }
+            };
+            let i = rows.first_row + r;
+            self.positions(
+                i,
+                hd,
+                disp,
+                &mut rows.x[v.clone()],
+                &mut rows.y[v.clone()],
+                &mut rows.z[v.clone()],
+            );
+            self.fold(
+                &der,
+                &mut rows.fold[v.clone()],
+                &mut rows.fold_dx[v.clone()],
+                &mut rows.fold_dy[v.clone()],
+            );
+            if self.analytic {
+                normals(
+                    &der,
+                    &mut rows.nx[v.clone()],
+                    &mut rows.ny[v.clone()],
+                    &mut rows.nz[v],
+                );
+            }
+        }
+    }
+
+    /// The displaced positions and heights of row i.
+    #[inline(always)]
+    fn positions(
+        &self,
+        i: usize,
+        hd: &[Complex<f32>],
+        disp: &[Complex<f32>],
+        x: &mut [f32],
+        y: &mut [f32],
+        z: &mut [f32],
+    ) {
+        let (s, lambda) = (self.spacing, self.lambda);
+        let rest_y = i as f32 * s;
+        for (j, ((x, y), (z, (hd, disp)))) in x
+            .iter_mut()
+            .zip(y.iter_mut())
+            .zip(z.iter_mut().zip(hd.iter().zip(disp)))
+            .enumerate()
+        {
+            *x = j as f32 * s + lambda * disp.re;
+            *y = rest_y + lambda * disp.im;
+            *z = hd.re;
+        }
+    }
+
+    /// The spectral derivatives of one row.
+    #[inline(always)]
+    fn spectral(
+        &self,
+        hd: &[Complex<f32>],
+        slope: &[Complex<f32>],
+        dd: &[Complex<f32>],
+        der: &mut Derivatives,
+    ) {
+        let (lambda, unscale) = (self.lambda, self.unscale);
+        for j in 0..self.n {
+            der.a[j] = 1.0 + lambda * dd[j].re;
+            der.d[j] = 1.0 + lambda * dd[j].im;
+            der.b[j] = lambda * hd[j].im * unscale;
+            der.sx[j] = slope[j].re;
+            der.sy[j] = slope[j].im;
+        }
+    }
+
+    /// The derivatives of one row from central differences over two spacings, the rows above
+    /// and below it and its own neighbours (wrapped: the patch tiles).
+    #[inline(always)]
+    fn differences(
+        &self,
+        hd: [&[Complex<f32>]; 3],
+        disp: [&[Complex<f32>]; 3],
+        der: &mut Derivatives,
+    ) {
+        let n = self.n;
+        let (lambda, unscale) = (self.lambda, self.unscale);
+        let inv = 1.0 / (2.0 * self.spacing);
+        let [up, mid, down] = hd;
+        let [dup, dmid, ddown] = disp;
+        for j in 0..n {
+            der.sy[j] = (down[j].re - up[j].re) * inv;
+            der.d[j] = 1.0 + lambda * ((ddown[j].im - dup[j].im) * inv);
+            der.b[j] = lambda * mid[j].im * unscale;
+        }
+        // The first and last vertices' neighbours wrap around the row.
+        for (j, before, after) in [(0, n - 1, 1), (n - 1, n - 2, 0)] {
+            der.sx[j] = (mid[after].re - mid[before].re) * inv;
+            der.a[j] = 1.0 + lambda * ((dmid[after].re - dmid[before].re) * inv);
+        }
+        for j in 1..n - 1 {
+            der.sx[j] = (mid[j + 1].re - mid[j - 1].re) * inv;
+            der.a[j] = 1.0 + lambda * ((dmid[j + 1].re - dmid[j - 1].re) * inv);
+        }
+    }
+
+    /// J and the direction in which the surface compresses.
+    #[inline(always)]
+    fn fold(&self, der: &Derivatives, fold: &mut [f32], fold_dx: &mut [f32], fold_dy: &mut [f32]) {
+        for j in 0..self.n {
+            let (a, b, d) = (der.a[j], der.b[j], der.d[j]);
+            fold[j] = a * d - b * b;
+            let (x, y) = compressing_direction(a, b, d);
+            fold_dx[j] = x;
+            fold_dy[j] = y;
+        }
+    }
+}
+
+/// The analytic normals of one row: the cross product of the displaced surface's tangents
+/// (a, b, ∂h/∂x) and (b, d, ∂h/∂y), normalised; straight up where it has no length.
+#[inline(always)]
+fn normals(der: &Derivatives, nx: &mut [f32], ny: &mut [f32], nz: &mut [f32]) {
+    for j in 0..nx.len() {
+        let (a, b, d, sx, sy) = (der.a[j], der.b[j], der.d[j], der.sx[j], der.sy[j]);
+        let cx = b * sy - d * sx;
+        let cy = sx * b - sy * a;
+        let cz = a * d - b * b;
+        let rcp = 1.0 / (cx * cx + cy * cy + cz * cz).sqrt();
+        let ok = rcp.is_finite() && rcp > 0.0;
+        nx[j] = if ok { cx * rcp } else { 0.0 };
+        ny[j] = if ok { cy * rcp } else { 0.0 };
+        nz[j] = if ok { cz * rcp } else { 1.0 };
+    }
+}
+
+/// The unit eigenvector of the smaller eigenvalue of the symmetric [[a, b], [b, d]], the
+/// direction in which the surface compresses; (0, 1) where every direction is one.
+#[inline(always)]
+pub fn compressing_direction(a: f32, b: f32, d: f32) -> (f32, f32) {
+    let half = 0.5 * (a - d);
+    let r = (half * half + b * b).sqrt();
+    // Of the two rows of M − μI, μ = (a + d)/2 − r, the one with the larger diagonal entry
+    // (h + r or r − h) gives the eigenvector without cancellation.
+    let up = half >= 0.0;
+    let x = if up { -b } else { r - half };
+    let y = if up { half + r } else { -b };
+    let len = (x * x + y * y).sqrt();
+    let ok = len > 0.0;
+    (
+        if ok { x / len } else { 0.0 },
+        if ok { y / len } else { 1.0 },
+    )
+}
