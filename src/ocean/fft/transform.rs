@@ -79,7 +79,8 @@ impl Inverse2d {
         assert_eq!(field.len(), n * n, "an N×N field");
         let mut strips = Strips::new(n, 0..n);
         self.row_pass(field, 0, &mut strips);
-        self.column_pass(&[&strips], &[0..n], field);
+        let every_row = 0..n;
+        self.column_pass(&[&strips], std::slice::from_ref(&every_row), field);
     }
 
     /// The length-N transform of every row of `rows` in place: half of a 2-D transform.
