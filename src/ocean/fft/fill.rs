@@ -13,6 +13,7 @@
 
 use crate::ocean::mesh::MeshRows;
 use rustfft::num_complex::Complex;
+use std::ops::Range;
 
 /// Where a band's derivatives come from: the column pass's output rows of each transform.
 #[derive(Clone, Copy, Debug)]
@@ -51,38 +52,39 @@ struct Derivatives {
 }
 
 impl Fill {
-    /// Fills `rows` from `source`, which starts at the band's first row.
-    pub fn fill(&self, source: Source<'_>, rows: MeshRows<'_>) {
+    /// Fills rows `these` of the band `rows` (indices within the band) from `source`, which
+    /// starts at the first of them.
+    pub fn fill(&self, source: Source<'_>, rows: &mut MeshRows<'_>, these: Range<usize>) {
         #[cfg(target_arch = "x86_64")]
         {
             if is_x86_feature_detected!("avx512f") {
                 // SAFETY: the CPU has AVX-512F, checked above.
-                return unsafe { self.fill_avx512(source, rows) };
+                return unsafe { self.fill_avx512(source, rows, these) };
             }
             if is_x86_feature_detected!("avx2") {
                 // SAFETY: the CPU has AVX2, checked above.
-                return unsafe { self.fill_avx2(source, rows) };
+                return unsafe { self.fill_avx2(source, rows, these) };
             }
         }
-        self.fill_rows(source, rows)
+        self.fill_rows(source, rows, these)
     }
 
     /// `fill_rows` compiled for AVX-512.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f,avx2")]
-    fn fill_avx512(&self, source: Source<'_>, rows: MeshRows<'_>) {
-        self.fill_rows(source, rows)
+    fn fill_avx512(&self, source: Source<'_>, rows: &mut MeshRows<'_>, these: Range<usize>) {
+        self.fill_rows(source, rows, these)
     }
 
     /// `fill_rows` compiled for AVX2.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn fill_avx2(&self, source: Source<'_>, rows: MeshRows<'_>) {
-        self.fill_rows(source, rows)
+    fn fill_avx2(&self, source: Source<'_>, rows: &mut MeshRows<'_>, these: Range<usize>) {
+        self.fill_rows(source, rows, these)
     }
 
     #[inline(always)]
-    fn fill_rows(&self, source: Source<'_>, rows: MeshRows<'_>) {
+    fn fill_rows(&self, source: Source<'_>, rows: &mut MeshRows<'_>, these: Range<usize>) {
         let n = self.n;
         let mut der = Derivatives {
             a: vec![0.0; n],
@@ -91,18 +93,19 @@ impl Fill {
             sx: vec![0.0; n],
             sy: vec![0.0; n],
         };
-        for r in 0..rows.rows() {
+        for (q, r) in these.enumerate() {
             let v = r * n..(r + 1) * n;
             let (hd, disp) = match source {
                 Source::Spectral([hd, disp, slope, dd]) => {
-                    let (hd, disp) = (&hd[v.clone()], &disp[v.clone()]);
-                    self.spectral(hd, &slope[v.clone()], &dd[v.clone()], &mut der);
+                    let u = q * n..(q + 1) * n;
+                    let (hd, disp) = (&hd[u.clone()], &disp[u.clone()]);
+                    self.spectral(hd, &slope[u.clone()], &dd[u], &mut der);
                     (hd, disp)
                 }
                 Source::Differences([hd, disp]) => {
-                    // Row r of the band is row r + 1 of the source.
-                    let hds = [0, 1, 2].map(|k| &hd[(r + k) * n..(r + k + 1) * n]);
-                    let disps = [0, 1, 2].map(|k| &disp[(r + k) * n..(r + k + 1) * n]);
+                    // Row q is row q + 1 of the source.
+                    let hds = [0, 1, 2].map(|k| &hd[(q + k) * n..(q + k + 1) * n]);
+                    let disps = [0, 1, 2].map(|k| &disp[(q + k) * n..(q + k + 1) * n]);
                     self.differences(hds, disps, &mut der);
                     (hds[1], disps[1])
                 }

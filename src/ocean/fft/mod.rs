@@ -24,7 +24,7 @@ use spectrum::Spectrum;
 use std::ops::Range;
 use std::sync::Arc;
 use terms::Terms;
-use transform::{Inverse2d, Strips};
+use transform::{Inverse2d, Strips, STRIP};
 
 /// The FFT ocean model.
 #[derive(Clone, Copy, Debug, Default)]
@@ -121,6 +121,9 @@ impl FftOcean {
     }
 }
 
+/// How the fill reads the column pass's output rows of each transform.
+type Reader = for<'a> fn(&'a [Vec<Complex<f32>>]) -> Source<'a>;
+
 /// The per-step machinery of a step or of one band of it: the spectrum's terms, the plan, and
 /// the row and column passes' scratch.
 #[derive(Clone, Debug)]
@@ -159,6 +162,55 @@ impl Passes {
                 self.inverse.row_pass(buf, first, strips);
             }
         }
+    }
+
+    /// The column pass of the mesh rows `band` and their fill, a chunk of rows at a time
+    /// (at most a strip's worth), each chunk filled while it is in cache; `ranges` are the
+    /// column pass's output rows ([`FftState::ranges`]): the band, and for differences the
+    /// row above it and the row below it, which the `halo` (0 or 1) rows either side of each
+    /// filled row need.
+    #[allow(clippy::too_many_arguments)]
+    fn columns_and_fill(
+        &mut self,
+        parts: &[Vec<&Strips>],
+        ranges: &[Range<usize>],
+        halo: usize,
+        fill: &Fill,
+        source: Reader,
+        rows: &mut MeshRows<'_>,
+    ) {
+        let n = self.n;
+        self.columns.resize(self.transforms, Vec::new());
+        for window in &mut self.columns {
+            window.resize((STRIP + 2 * halo) * n, Complex::default());
+        }
+        // Rows in the window, and mesh rows of the band filled so far.
+        let (mut have, mut filled) = (0, 0);
+        for range in ranges {
+            let mut i = range.start;
+            while i < range.end {
+                let end = range.end.min((i / STRIP + 1) * STRIP);
+                let chunk = i..end;
+                for (window, parts) in self.columns.iter_mut().zip(parts) {
+                    let out = &mut window[have * n..(have + chunk.len()) * n];
+                    self.inverse
+                        .column_pass(parts, std::slice::from_ref(&chunk), out);
+                }
+                have += chunk.len();
+                i = end;
+                if have > 2 * halo {
+                    let centres = have - 2 * halo;
+                    fill.fill(source(&self.columns), rows, filled..filled + centres);
+                    filled += centres;
+                    // The last rows are the next rows' neighbours.
+                    for window in &mut self.columns {
+                        window.copy_within(centres * n..have * n, 0);
+                    }
+                    have = 2 * halo;
+                }
+            }
+        }
+        debug_assert_eq!(filled, rows.rows(), "every row of the band filled");
     }
 
     /// The output rows `ranges` of every transform, from the row pass's `parts` (per
@@ -292,20 +344,39 @@ impl FftState {
         self.transform_band(t, 0..self.n);
     }
 
-    /// The column pass's output, as the fill reads it.
-    fn source(&self) -> Source<'_> {
-        let c = &self.passes.columns;
+    /// The rows either side of a filled row that its fill reads, and how it reads the column
+    /// pass's output.
+    fn reading(&self) -> (usize, Reader) {
         match self.kernel {
-            Kernel::Reference => Source::Spectral([&c[0], &c[1], &c[2], &c[3]]),
-            Kernel::Fast => Source::Differences([&c[0], &c[1]]),
+            Kernel::Reference => (0, |c| Source::Spectral([&c[0], &c[1], &c[2], &c[3]])),
+            Kernel::Fast => (1, |c| Source::Differences([&c[0], &c[1]])),
         }
+    }
+
+    /// The column pass of `band` from `parts` (per transform) and the fill of its rows.
+    fn columns_and_fill(&mut self, parts: &[Vec<&Strips>], rows: &mut MeshRows<'_>) {
+        let band = rows.first_row..rows.first_row + rows.rows();
+        let ranges = self.ranges(band);
+        let (halo, source) = self.reading();
+        self.passes
+            .columns_and_fill(parts, &ranges, halo, &self.fill, source, rows);
+    }
+
+    /// Every step's work for the mesh rows `rows`: the whole row pass, then the rows' column
+    /// pass and fill.
+    fn step_band(&mut self, t: f32, mut rows: MeshRows<'_>) {
+        self.whole_row_pass(t);
+        let strips = std::mem::take(&mut self.strips);
+        let parts: Vec<Vec<&Strips>> = strips.iter().map(|s| vec![s]).collect();
+        self.columns_and_fill(&parts, &mut rows);
+        drop(parts);
+        self.strips = strips;
     }
 }
 
 impl Stepper for FftState {
     fn step(&mut self, t: f32, mesh: &mut Mesh) {
-        self.transform(t);
-        self.fill.fill(self.source(), mesh.rows_mut(0..self.n));
+        self.step_band(t, mesh.rows_mut(0..self.n));
         if let Some(faces) = &mut self.faces {
             faces.compute(mesh, self.normals);
         }
@@ -319,9 +390,7 @@ impl Stepper for FftState {
             NormalMethod::Analytic,
             "step_rows needs analytic normals"
         );
-        let band = rows.first_row..rows.first_row + rows.rows();
-        self.transform_band(t, band);
-        self.fill.fill(self.source(), rows);
+        self.step_band(t, rows);
     }
 
     fn boxed_clone(&self) -> Box<dyn Stepper> {
@@ -394,8 +463,7 @@ impl FftBand {
 
     /// Phase 1: this band's rows of the column pass (and the rows beside it that differences
     /// read), from every band's row pass, and the mesh rows they make.
-    fn column_pass(&mut self, rows: MeshRows<'_>) {
-        let band = self.shared.bands[self.band].clone();
+    fn column_pass(&mut self, mut rows: MeshRows<'_>) {
         let guards: Vec<Vec<_>> = self
             .shared
             .parts
@@ -405,9 +473,7 @@ impl FftBand {
         let parts: Vec<Vec<&Strips>> = (0..self.whole.passes.transforms)
             .map(|f| guards.iter().map(|band| &*band[f]).collect())
             .collect();
-        let ranges = self.whole.ranges(band);
-        self.whole.passes.column_pass(&parts, &ranges);
-        self.whole.fill.fill(self.whole.source(), rows);
+        self.whole.columns_and_fill(&parts, &mut rows);
     }
 }
 

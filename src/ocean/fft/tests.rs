@@ -11,6 +11,8 @@ fn surface(params: &FftParams, n: usize, t: f32, normals: NormalMethod) -> (FftS
     let mut state = FftState::new(&spectrum, params.patch_metres, params.choppiness, normals);
     let mut mesh = FftOcean.mesh(Grid::new(n, state.spacing()).unwrap());
     state.step(t, &mut mesh);
+    // The step fills the mesh chunk by chunk; the whole fields, for the tests to read.
+    state.transform(t);
     (state, mesh)
 }
 
