@@ -228,6 +228,15 @@ pub fn parse_cpu_list(text: &str) -> Vec<usize> {
         .collect()
 }
 
+/// Whether the OS lists cores `a` and `b` as thread siblings of one physical core (in a VM, the
+/// guest's topology, which says nothing of where the host put the vCPUs); `None` when sysfs
+/// does not say.
+pub fn thread_siblings(a: usize, b: usize) -> Option<bool> {
+    let path = format!("/sys/devices/system/cpu/cpu{a}/topology/thread_siblings_list");
+    let list = std::fs::read_to_string(path).ok()?;
+    Some(a != b && parse_cpu_list(&list).contains(&b))
+}
+
 fn smt(r: &mut Reader, cores: &[usize]) -> Vec<Finding> {
     let mut out = Vec::new();
     let mut siblings = HashMap::new();
