@@ -49,8 +49,13 @@ pub enum Command {
     /// for the helper, with DP ÷ serial there and the speed-up curve around it.
     Balance(BalanceArgs),
     /// Check what on this machine makes measurements noisy (governor, boost, SMT, isolation,
-    /// steal, load, busy threads, pinning), each finding with how to fix it.
+    /// steal, load, busy threads, pinning, placement), each finding with how to fix it.
     Doctor(DoctorArgs),
+    /// Say where the two cores sat during a run: its round trips as one placement or near and
+    /// far, the cells that mixed placements with their FPS per placement, each balance point
+    /// per placement, and whether DP behaved differently on the two (any results file; one
+    /// from before placement was recorded is placed from the round trips it holds).
+    Placement(PlacementArgs),
 }
 
 /// One flag per dimension of a cell (`--size`, `--mode`, `--sync`, ...), each taking a value or
@@ -479,6 +484,19 @@ pub struct DoctorArgs {
     #[arg(long, default_value_t = 2.0)]
     pub seconds: f64,
     /// Print the findings as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Flags of `oceanbench placement`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Examples:\n  oceanbench placement results/projected-20261125T163816Z\n  oceanbench placement results/fog-20261125T163342Z --json"
+)]
+pub struct PlacementArgs {
+    /// The results directory (or its results.json).
+    pub results: PathBuf,
+    /// Print the cells' placements and the finding as JSON.
     #[arg(long)]
     pub json: bool,
 }

@@ -88,6 +88,13 @@ impl Cell {
         self.trials.iter().filter(|t| t.unexplained()).count()
     }
 
+    /// Whether its kept trials ran in more than one placement, or moved during one (the tables'
+    /// §), by their labels ([`crate::placement::label`]).
+    pub fn mixed_placements(&self) -> bool {
+        let classes: Vec<_> = self.trials.iter().map(|t| t.placement).collect();
+        crate::placement::mixed(&classes)
+    }
+
     /// The cell's workload level in [`Cell::workload_unit`].
     pub fn workload_amount(&self) -> u64 {
         self.workload_amount.unwrap_or(self.workload_iterations)

@@ -448,7 +448,11 @@ impl Sweep {
             .flat_map(|r| &r.facts)
             .filter_map(|f| f.round_trip_ns)
             .flatten();
-        Split::of(placement::round_trips(&self.results).into_iter().chain(row))
+        Split::of(
+            placement::run::round_trips(&self.results)
+                .into_iter()
+                .chain(row),
+        )
     }
 
     /// The workload iterations of a row's cells and how they were set: the yardstick is
