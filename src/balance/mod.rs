@@ -228,9 +228,9 @@ pub fn by_placement(entry: &mut BalanceEntry, seed: u64) {
         });
     }
     let none = if threaded && head.balance_us.is_none() {
-        format!(", which bracket no balance point")
+        ", which bracket no balance point"
     } else {
-        String::new()
+        ""
     };
     entry.note = Some(match entry.note.take() {
         Some(n) => format!("{mixed}{none}; {n}"),

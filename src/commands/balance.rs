@@ -75,6 +75,9 @@ pub(super) fn balance(args: BalanceArgs) -> Result<(), CliError> {
     if let Some(t) = args.trials {
         settings.trials = t;
     }
+    if let Some(cores) = &args.cores {
+        config.cores = Some(cores.clone());
+    }
     settings.validate("--")?;
     if let Some(bad) = config.axes.modes.iter().find(|m| **m == Mode::Serial) {
         return Err(InputError(format!(

@@ -181,6 +181,17 @@ fn chosen_cores(given: Option<&[usize]>) -> Result<[usize; 2], InputError> {
     }
 }
 
+/// [`chosen_cores`] for a command that measures between the two cores (`latency`, `doctor`):
+/// one core stands for itself, but two must differ.
+fn two_cores(given: Option<&[usize]>) -> Result<[usize; 2], InputError> {
+    match given {
+        Some([a, b]) if a == b => Err(InputError(format!(
+            "--cores: give two different cores (or one), got {a},{b}"
+        ))),
+        _ => chosen_cores(given),
+    }
+}
+
 /// The command line this process was started with, for the results file.
 fn command_line() -> Vec<String> {
     std::env::args_os()

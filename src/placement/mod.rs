@@ -134,7 +134,7 @@ impl Split {
         }
     }
 
-    /// `One placement, round trip 41-64 ns` or `Two placements: near 41-64 ns (N round
+    /// `one placement, round trip 41-64 ns` or `two placements: near 41-64 ns (N round
     /// trips), far 363-402 ns (M)`.
     pub fn describe(&self) -> String {
         let ns = |[lo, hi]: [f64; 2]| {
@@ -145,9 +145,9 @@ impl Split {
             }
         };
         match self.far_ns {
-            None => format!("One placement, round trip {}", ns(self.near_ns)),
+            None => format!("one placement, round trip {}", ns(self.near_ns)),
             Some(far) => format!(
-                "Two placements: near {} ({} round trips), far {} ({})",
+                "two placements: near {} ({} round trips), far {} ({})",
                 ns(self.near_ns),
                 self.near_count,
                 ns(far),

@@ -183,20 +183,20 @@ impl RunPlacement {
     /// One line: the split and how the trials and cells fell; `None` without round trips.
     pub fn summary(&self) -> Option<String> {
         let split = self.split.as_ref()?;
-        let trials: Vec<String> = self
-            .trials()
-            .iter()
-            .map(|(c, n)| format!("{n} {c}"))
-            .collect();
-        let mixed = self.mixed().count();
-        let trials = if trials.is_empty() {
-            String::new()
-        } else {
-            format!("; trials: {}", trials.join(", "))
+        let trials = self.trials();
+        let total: usize = trials.iter().map(|t| t.1).sum();
+        let trials = match trials.as_slice() {
+            [] => String::new(),
+            [(Class::One, n)] => format!("; every one of the {n} placed trials ran in it"),
+            _ => {
+                let each: Vec<String> = trials.iter().map(|(c, n)| format!("{n} {c}")).collect();
+                format!("; {total} placed trials: {}", each.join(", "))
+            }
         };
         let mixed = if split.two() {
             format!(
-                "; {mixed} of {} cells with placed trials mixed placements",
+                "; {} of {} cells with placed trials mixed placements",
+                self.mixed().count(),
                 self.cells.len()
             )
         } else {
@@ -372,8 +372,8 @@ fn sentence(f: &Finding) -> String {
     if !f.split.two() {
         let s = &f.sides[0];
         return format!(
-            "Every round trip fell in one placement ({}): DP ÷ serial {} and the helper's step {} ms over {} DP trials; the run cannot say whether DP behaves differently on another placement.{serial}",
-            f.split.describe().trim_start_matches("One placement, "),
+            "Every round trip fell in one placement ({}): DP ÷ serial {} and the helper's step {} ms over its {} DP trials; the run cannot say whether DP behaves differently on another placement.{serial}",
+            f.split.describe().trim_start_matches("one placement, "),
             num(s.dp_over_serial, 2),
             num(s.step_ms, 3),
             s.dp_trials

@@ -468,6 +468,10 @@ pub fn placement(results: &Results) -> String {
     let Some(line) = placement_line(results) else {
         return String::new();
     };
+    let mut first = line.chars();
+    let line: String = first
+        .next()
+        .map_or(String::new(), |c| c.to_uppercase().chain(first).collect());
     let mut out = format!("### Placement\n\n{line}\n\n");
     if let Some(t) = placement_table(results) {
         out.push_str(
