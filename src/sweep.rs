@@ -345,21 +345,14 @@ impl Sweep {
                 .map(|k| self.start_cell(k, iterations, calibration.clone()))
                 .collect();
             for _ in 0..trials {
-                for run in runs.iter_mut().filter(|r| r.error.is_none()) {
-                    observer.trial_starting(Progress {
-                        done,
-                        total,
-                        cell: &run.key,
-                    });
-                    if self.run_trial(run).is_err() {
-                        return self.results;
-                    }
-                    done += 1;
+                let live = runs.iter_mut().filter(|r| r.error.is_none());
+                if self.round(live, observer, &mut done, total).is_err() {
+                    return self.results;
                 }
             }
             for _ in 0..self.results.config.retry_noisy {
                 let split = self.split_with(&runs);
-                let mut mixed: Vec<&mut CellRun> = runs
+                let mixed: Vec<&mut CellRun> = runs
                     .iter_mut()
                     .filter(|r| r.error.is_none() && r.needs_round(split.as_ref(), trials))
                     .collect();
@@ -367,16 +360,8 @@ impl Sweep {
                     break;
                 }
                 total += mixed.len();
-                for run in &mut mixed {
-                    observer.trial_starting(Progress {
-                        done,
-                        total,
-                        cell: &run.key,
-                    });
-                    if self.run_trial(run).is_err() {
-                        return self.results;
-                    }
-                    done += 1;
+                if self.round(mixed, observer, &mut done, total).is_err() {
+                    return self.results;
                 }
             }
             let split = self.split_with(&runs);
@@ -412,6 +397,27 @@ impl Sweep {
         self.results.finished = Some(utc_now());
         observer.row_finished(&self.results);
         self.results
+    }
+
+    /// One round: a kept trial of each of `runs` in turn, telling `observer` before each.
+    /// `Err` when a stop request arrived.
+    fn round<'r>(
+        &self,
+        runs: impl IntoIterator<Item = &'r mut CellRun>,
+        observer: &mut impl Observer,
+        done: &mut usize,
+        total: usize,
+    ) -> Result<(), LoopError> {
+        for run in runs {
+            observer.trial_starting(Progress {
+                done: *done,
+                total,
+                cell: &run.key,
+            });
+            self.run_trial(run)?;
+            *done += 1;
+        }
+        Ok(())
     }
 
     /// One kept trial of `run`, with the round trips around it: a noisy trial is re-run up to

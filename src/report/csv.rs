@@ -1,6 +1,7 @@
 //! CSV files through the `csv` crate, from flat row structs: the results table (one row per
 //! cell, one column per dimension or statistic) and `mesh --out`.
 
+use crate::balance::Ratio;
 use crate::calibrate::Calibrate;
 use crate::placement::{CellPlacement, Class};
 use crate::results::{Cell, CellKey, CellNoise, Results};
@@ -247,12 +248,9 @@ pub fn trials(results: &Results) -> Result<String, CsvError> {
     to_text(rows)
 }
 
-/// One balance point: the searched cell, then what the search found.
+/// A balance point's bracket and ratios, as a search's headline or one placement's gives them.
 #[derive(Serialize)]
-struct BalanceRow<'a> {
-    #[serde(flatten)]
-    key: &'a CellKey,
-    step_us: f64,
+struct Figures {
     balance_us: Option<f64>,
     balance_us_low: Option<f64>,
     balance_us_high: Option<f64>,
@@ -263,6 +261,38 @@ struct BalanceRow<'a> {
     dp_over_up: Option<f64>,
     dp_over_up_low: Option<f64>,
     dp_over_up_high: Option<f64>,
+}
+
+impl Figures {
+    fn of(
+        bracket: [Option<f64>; 3],
+        fraction: Option<f64>,
+        serial: Option<Ratio>,
+        up: Option<Ratio>,
+    ) -> Figures {
+        Figures {
+            balance_us: bracket[0],
+            balance_us_low: bracket[1],
+            balance_us_high: bracket[2],
+            balance_fraction: fraction,
+            dp_over_serial: serial.map(|r| r.value),
+            dp_over_serial_low: serial.map(|r| r.low),
+            dp_over_serial_high: serial.map(|r| r.high),
+            dp_over_up: up.map(|r| r.value),
+            dp_over_up_low: up.map(|r| r.low),
+            dp_over_up_high: up.map(|r| r.high),
+        }
+    }
+}
+
+/// One balance point: the searched cell, then what the search found.
+#[derive(Serialize)]
+struct BalanceRow<'a> {
+    #[serde(flatten)]
+    key: &'a CellKey,
+    step_us: f64,
+    #[serde(flatten)]
+    figures: Figures,
     overhead_percent: Option<f64>,
     probes: usize,
     placement: Option<Class>,
@@ -293,20 +323,20 @@ struct ProbeRow<'a> {
 /// The balance points as CSV: one row per searched cell.
 pub fn balance(results: &Results) -> Result<String, CsvError> {
     let rows = results.balance.iter().map(|e| {
-        let up = e.dp_over_up;
+        let serial = e.dp_over_serial.map(|value| Ratio {
+            value,
+            low: e.dp_over_serial_low.unwrap_or(value),
+            high: e.dp_over_serial_high.unwrap_or(value),
+        });
         BalanceRow {
             key: &e.key,
             step_us: e.step_us,
-            balance_us: e.balance_us,
-            balance_us_low: e.balance_us_low,
-            balance_us_high: e.balance_us_high,
-            balance_fraction: e.fraction(),
-            dp_over_serial: e.dp_over_serial,
-            dp_over_serial_low: e.dp_over_serial_low,
-            dp_over_serial_high: e.dp_over_serial_high,
-            dp_over_up: up.map(|r| r.value),
-            dp_over_up_low: up.map(|r| r.low),
-            dp_over_up_high: up.map(|r| r.high),
+            figures: Figures::of(
+                [e.balance_us, e.balance_us_low, e.balance_us_high],
+                e.fraction(),
+                serial,
+                e.dp_over_up,
+            ),
             overhead_percent: e.overhead_percent,
             probes: e.probes.len(),
             placement: e.placement,
@@ -351,14 +381,8 @@ struct PlacementRow<'a> {
     round_trip_ns_min: f64,
     round_trip_ns_max: f64,
     step_us: Option<f64>,
-    balance_us: Option<f64>,
-    balance_us_low: Option<f64>,
-    balance_us_high: Option<f64>,
-    balance_fraction: Option<f64>,
-    dp_over_serial: Option<f64>,
-    dp_over_serial_low: Option<f64>,
-    dp_over_serial_high: Option<f64>,
-    dp_over_up: Option<f64>,
+    #[serde(flatten)]
+    figures: Figures,
 }
 
 /// Each balance search's figures per placement as CSV (`balance-placements.csv`).
@@ -372,14 +396,12 @@ pub fn balance_placements(results: &Results) -> Result<String, CsvError> {
             round_trip_ns_min: p.round_trip_ns[0],
             round_trip_ns_max: p.round_trip_ns[1],
             step_us: p.step_us,
-            balance_us: p.balance_us,
-            balance_us_low: p.balance_us_low,
-            balance_us_high: p.balance_us_high,
-            balance_fraction: p.fraction(),
-            dp_over_serial: p.dp_over_serial.map(|r| r.value),
-            dp_over_serial_low: p.dp_over_serial.map(|r| r.low),
-            dp_over_serial_high: p.dp_over_serial.map(|r| r.high),
-            dp_over_up: p.dp_over_up.map(|r| r.value),
+            figures: Figures::of(
+                [p.balance_us, p.balance_us_low, p.balance_us_high],
+                p.fraction(),
+                p.dp_over_serial,
+                p.dp_over_up,
+            ),
         })
     });
     to_text(rows)
