@@ -305,6 +305,26 @@ fn bad_balance_input_exits_2_with_one_line() {
 
 #[test]
 fn a_range_without_a_balance_point_says_which_side_and_suggests_one() {
+    // On the model: up to a third of the step the main thread always waits for the mesh, and
+    // from three steps up the helper always idles.
+    let cell = dp_cell();
+    for (range, side, suggested) in [
+        ([0.02, 0.3], "top of the range", "\"range\": [0.02, 3]"),
+        ([3.0, 10.0], "bottom of the range", "\"range\": [0.3, 10]"),
+    ] {
+        let settings = BalanceSettings {
+            range,
+            ..settings()
+        };
+        let Err(balance::BalanceError::Input(e)) =
+            balance::search(&Model::new(|_| false), &cell, &settings)
+        else {
+            panic!("{range:?} holds no balance point");
+        };
+        assert!(e.0.contains(side) && e.0.contains(suggested), "{e}");
+    }
+    // On this machine the same message is one line and exit 2; a busy machine can move the
+    // waits enough to find a sign change after all, so success is no failure here.
     let dir = tempfile::tempdir().unwrap();
     let mode = if affinity::allowed_cores().len() > 1 {
         "dp"
@@ -312,7 +332,6 @@ fn a_range_without_a_balance_point_says_which_side_and_suggests_one() {
         "up"
     };
     let out = dir.path().join("r");
-    // Up to a third of the step the main thread always waits for the mesh.
     let run = oceanbench(&[
         "balance",
         "--size",
@@ -329,22 +348,13 @@ fn a_range_without_a_balance_point_says_which_side_and_suggests_one() {
         out.to_str().unwrap(),
     ]);
     let stderr = String::from_utf8_lossy(&run.stderr);
-    if mode == "up" {
-        assert!(
-            run.status.success(),
-            "up has no balance point to bracket: {stderr}"
-        );
+    if run.status.success() {
         return;
     }
     assert_eq!(run.status.code(), Some(2), "{stderr}");
-    assert_eq!(
-        stderr
-            .trim_end()
-            .lines()
-            .last()
-            .map(|l| l.contains("top of the range")),
-        Some(true),
+    let last = stderr.trim_end().lines().last().unwrap_or_default();
+    assert!(
+        last.contains("of the range (") && last.contains("try a range"),
         "{stderr}"
     );
-    assert!(stderr.contains("\"range\": [0.02, 3]"), "{stderr}");
 }
