@@ -184,7 +184,8 @@ pub fn levels(results: &Results) -> String {
 }
 
 /// What makes a run's figures less trustworthy: rows whose yardstick drifted since the start
-/// of the sweep, and cells that kept trials disturbed beyond the noise threshold.
+/// of the sweep, cells that kept trials disturbed beyond the noise threshold, slow trials, and
+/// cells whose trials mixed placements.
 pub fn noise_warnings(results: &Results) -> Vec<String> {
     let mut out = Vec::new();
     let mut drifted: Vec<String> = Vec::new();
@@ -252,6 +253,22 @@ pub fn noise_warnings(results: &Results) -> Vec<String> {
     }
     if let Some(line) = slow_trial_warning(results) {
         out.push(line);
+    }
+    let run = RunPlacement::of(results);
+    let mixed: Vec<String> = run.mixed().map(|c| c.key.label()).collect();
+    if !mixed.is_empty() {
+        let named: Vec<&str> = mixed.iter().take(WORST_NAMED).map(String::as_str).collect();
+        let rest = if mixed.len() > WORST_NAMED {
+            ", ..."
+        } else {
+            ""
+        };
+        out.push(format!(
+            "{} of {} cells kept trials from more than one placement of the two cores ({MIXED} in the tables): {}{rest}; FPS per placement under \"Placement\", and --retry-noisy re-runs such cells (docs/noise.md)",
+            mixed.len(),
+            run.cells.len(),
+            named.join(", ")
+        ));
     }
     out
 }
