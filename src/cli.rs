@@ -49,8 +49,13 @@ pub enum Command {
     /// for the helper, with DP ÷ serial there and the speed-up curve around it.
     Balance(BalanceArgs),
     /// Check what on this machine makes measurements noisy (governor, boost, SMT, isolation,
-    /// steal, load, busy threads, pinning), each finding with how to fix it.
+    /// steal, load, busy threads, pinning, placement), each finding with how to fix it.
     Doctor(DoctorArgs),
+    /// Say where the two cores sat during a run: its round trips as one placement or near and
+    /// far, the cells that mixed placements with their FPS per placement, each balance point
+    /// per placement, and whether DP behaved differently on the two (any results file; one
+    /// from before placement was recorded is placed from the round trips it holds).
+    Placement(PlacementArgs),
 }
 
 /// One flag per dimension of a cell (`--size`, `--mode`, `--sync`, ...), each taking a value or
@@ -317,6 +322,10 @@ pub struct SweepArgs {
     /// Skip the machine checks `doctor` makes before the sweep.
     #[arg(long)]
     pub no_doctor: bool,
+    /// Cores for the main and helper threads, e.g. `0,1` (config key `cores`; default: the
+    /// first two allowed).
+    #[arg(long, value_delimiter = ',', conflicts_with = "resume")]
+    pub cores: Option<Vec<usize>>,
     /// Calibration and noise handling (not with --resume, which keeps the recorded config).
     #[command(flatten)]
     pub noise: NoiseArgs,
@@ -414,12 +423,17 @@ pub struct CompareArgs {
 /// Flags of `oceanbench latency`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "Example:\n  oceanbench latency --cores 0,1 --samples 20000 --json latency.json"
+    after_help = "Examples:\n  oceanbench latency --cores 0,1 --samples 20000 --json latency.json\n  oceanbench latency --matrix"
 )]
 pub struct LatencyArgs {
-    /// The two cores, e.g. `0,1` (default: the first two allowed).
+    /// The two cores, e.g. `0,1` (default: the first two allowed); with --matrix, the cores
+    /// to pair (default: every allowed core).
     #[arg(long, value_delimiter = ',')]
     pub cores: Option<Vec<usize>>,
+    /// Print the cache-line round trip of every pair of cores instead (as core-to-core-latency
+    /// does), each pair named near or far against the others.
+    #[arg(long)]
+    pub matrix: bool,
     /// Round trips per row (each row also stops after 2 s).
     #[arg(long, default_value_t = 20_000)]
     pub samples: usize,
@@ -455,6 +469,10 @@ pub struct BalanceArgs {
     /// Paired trials at every probe (default 3).
     #[arg(long)]
     pub trials: Option<u32>,
+    /// Cores for the main and helper threads, e.g. `0,1` (config key `cores`; default: the
+    /// first two allowed).
+    #[arg(long, value_delimiter = ',')]
+    pub cores: Option<Vec<usize>>,
     /// Results directory (default: results/balance-<UTC timestamp>).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -479,6 +497,19 @@ pub struct DoctorArgs {
     #[arg(long, default_value_t = 2.0)]
     pub seconds: f64,
     /// Print the findings as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Flags of `oceanbench placement`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Examples:\n  oceanbench placement results/projected-20261125T163816Z\n  oceanbench placement results/fog-20261125T163342Z --json"
+)]
+pub struct PlacementArgs {
+    /// The results directory (or its results.json).
+    pub results: PathBuf,
+    /// Print the cells' placements and the finding as JSON.
     #[arg(long)]
     pub json: bool,
 }

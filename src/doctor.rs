@@ -46,6 +46,10 @@ pub struct Report {
     pub findings: Vec<Finding>,
     /// `/proc` and `/sys` entries that were not there to read.
     pub missing: Vec<String>,
+    /// The cross-core round trips timed before and after the window (ns; two cores only,
+    /// absent in reports from before they were).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub round_trip_ns: Vec<f64>,
 }
 
 impl Report {
@@ -135,6 +139,7 @@ pub fn examine(cores: &[usize], window: Duration) -> Report {
         missing: Vec::new(),
     };
     let mut findings = Vec::new();
+    let mut round_trip_ns = round_trips(cores, PLACEMENT_TRIPS);
     findings.extend(governor(&mut r, cores));
     findings.extend(boost(&mut r));
     findings.extend(smt(&mut r, cores));
@@ -144,6 +149,8 @@ pub fn examine(cores: &[usize], window: Duration) -> Report {
     findings.push(irqbalance());
     findings.push(transparent_hugepages(&mut r));
     findings.extend(sampled(&mut r, cores, window));
+    round_trip_ns.extend(round_trips(cores, PLACEMENT_TRIPS));
+    findings.extend(placement(cores, &round_trip_ns));
     findings.extend(pinning(cores));
     findings.extend(core_locks(cores));
     Report {
@@ -151,6 +158,7 @@ pub fn examine(cores: &[usize], window: Duration) -> Report {
         window_seconds: window.as_secs_f64(),
         findings,
         missing: r.missing,
+        round_trip_ns,
     }
 }
 
@@ -228,6 +236,15 @@ pub fn parse_cpu_list(text: &str) -> Vec<usize> {
         .collect()
 }
 
+/// Whether the OS lists cores `a` and `b` as thread siblings of one physical core (in a VM, the
+/// guest's topology, which says nothing of where the host put the vCPUs); `None` when sysfs
+/// does not say.
+pub fn thread_siblings(a: usize, b: usize) -> Option<bool> {
+    let path = format!("/sys/devices/system/cpu/cpu{a}/topology/thread_siblings_list");
+    let list = std::fs::read_to_string(path).ok()?;
+    Some(a != b && parse_cpu_list(&list).contains(&b))
+}
+
 fn smt(r: &mut Reader, cores: &[usize]) -> Vec<Finding> {
     let mut out = Vec::new();
     let mut siblings = HashMap::new();
@@ -270,6 +287,52 @@ fn smt(r: &mut Reader, cores: &[usize]) -> Vec<Finding> {
         ));
     }
     out
+}
+
+/// Round trips timed before the window and again after it.
+const PLACEMENT_TRIPS: usize = 3;
+
+/// `n` median cross-core round trips between the two cores (ns); none on one core. Each is 300
+/// batches: a few ms near, some tens far.
+fn round_trips(cores: &[usize], n: usize) -> Vec<f64> {
+    match cores {
+        [a, b] if a != b => (0..n)
+            .map(|_| crate::crosscore::round_trip(*a, *b, 300).median_ns)
+            .collect(),
+        _ => Vec::new(),
+    }
+}
+
+/// Where the two cores sat: their round trips over the window as one placement or near and
+/// far, and whether the OS lists them as thread siblings.
+fn placement(cores: &[usize], trips: &[f64]) -> Option<Finding> {
+    let [a, b] = cores else { return None };
+    let split = crate::placement::Split::of(trips.iter().copied())?;
+    let siblings = match thread_siblings(*a, *b) {
+        Some(true) => "; the OS lists them as thread siblings of one core",
+        Some(false) => "; the OS does not list them as thread siblings",
+        None => "",
+    };
+    let vm = if siblings.is_empty() {
+        ""
+    } else {
+        " (in a VM, the guest's topology: it says nothing of where the host put the vCPUs)"
+    };
+    let what = format!(
+        "cores {a},{b}: {} over {} round trips before and after the window{siblings}{vm}",
+        split.describe(),
+        trips.len()
+    );
+    Some(if split.two() {
+        finding(
+            "placement",
+            Severity::Warn,
+            format!("{what}: the host moved the two vCPUs between near and far cores while doctor watched"),
+            Some("every trial is placed (results.md's Placement section); compare within one placement, and prefer a VM with dedicated cores (docs/noise.md)"),
+        )
+    } else {
+        finding("placement", Severity::Info, what, None)
+    })
 }
 
 fn isolation(r: &mut Reader, cores: &[usize]) -> Finding {

@@ -348,3 +348,146 @@ pub fn to_text(rows: &[LatencyRow]) -> String {
     }
     out
 }
+
+/// The cache-line round trip of every pair of a set of cores.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Matrix {
+    /// The cores, in the order given.
+    pub cores: Vec<usize>,
+    /// Each pair's median round trip (ns), `[a, b, ns]` with `a` before `b` in `cores`.
+    pub pairs: Vec<(usize, usize, f64)>,
+}
+
+/// Refuses a matrix of fewer than two cores, or one that lists a core twice.
+pub fn check_matrix_cores(cores: &[usize]) -> Result<(), crate::input::InputError> {
+    let mut seen = cores.to_vec();
+    seen.sort_unstable();
+    seen.dedup();
+    if seen.len() != cores.len() {
+        return Err(crate::input::InputError(format!(
+            "--cores: the matrix pairs different cores; {} lists one twice",
+            affinity::list(cores)
+        )));
+    }
+    if cores.len() < 2 {
+        return Err(crate::input::InputError(format!(
+            "--matrix: needs at least two cores, got {}",
+            affinity::list(cores)
+        )));
+    }
+    Ok(())
+}
+
+impl Matrix {
+    /// Measures every pair of `cores` once with `round_trip(a, b)` (ns), in order.
+    pub fn measure(cores: &[usize], mut round_trip: impl FnMut(usize, usize) -> f64) -> Matrix {
+        let mut pairs = Vec::new();
+        for (i, &a) in cores.iter().enumerate() {
+            for &b in &cores[i + 1..] {
+                pairs.push((a, b, round_trip(a, b)));
+            }
+        }
+        Matrix {
+            cores: cores.to_vec(),
+            pairs,
+        }
+    }
+
+    /// The round trip between `a` and `b`, either way round.
+    pub fn get(&self, a: usize, b: usize) -> Option<f64> {
+        self.pairs
+            .iter()
+            .find(|&&(x, y, _)| (x, y) == (a, b) || (x, y) == (b, a))
+            .map(|p| p.2)
+    }
+
+    /// The matrix as text: a lower triangle of round trips (ns), each marked `n` (near) or `f`
+    /// (far) when the pairs split into two placements, then one line per placement naming its
+    /// pairs, and which pairs the OS lists as thread siblings (`siblings(a, b)`).
+    pub fn to_text(&self, siblings: impl Fn(usize, usize) -> Option<bool>) -> String {
+        let split = crate::placement::Split::of(self.pairs.iter().map(|p| p.2));
+        let mark = |ns: f64| match split.as_ref().and_then(|s| s.class(ns)) {
+            Some(crate::placement::Class::Near) => " n",
+            Some(crate::placement::Class::Far) => " f",
+            _ => "  ",
+        };
+        let mut out = format!("{:>6}", "core");
+        for &b in &self.cores[..self.cores.len().saturating_sub(1)] {
+            out.push_str(&format!("{b:>9}"));
+        }
+        out.push('\n');
+        for (i, &a) in self.cores.iter().enumerate().skip(1) {
+            out.push_str(&format!("{a:>6}"));
+            for &b in &self.cores[..i] {
+                let cell = self
+                    .get(a, b)
+                    .map_or("–".into(), |ns| format!("{ns:.0}{}", mark(ns)));
+                out.push_str(&format!("{cell:>9}"));
+            }
+            out.push('\n');
+        }
+        if let Some(s) = &split {
+            out.push_str(&format!("{}\n", s.describe()));
+        }
+        let listed: Vec<String> = self
+            .pairs
+            .iter()
+            .filter(|&&(a, b, _)| siblings(a, b) == Some(true))
+            .map(|&(a, b, _)| format!("{a},{b}"))
+            .collect();
+        out.push_str(&if listed.is_empty() {
+            "the OS lists no pair as thread siblings (in a VM, the guest's view, not where the host put the vCPUs)\n".to_string()
+        } else {
+            format!(
+                "thread siblings by the OS: {} (in a VM, the guest's view, not where the host put the vCPUs)\n",
+                listed.join(" ")
+            )
+        });
+        out.push_str("(ns: median cache-line round trip, batched; n near, f far)\n");
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_matrix_measures_every_pair_once_and_names_near_and_far() {
+        // Cores 0 and 2 are one die, 5 and 7 another: near within, far across.
+        let die = |c: usize| c / 4;
+        let mut asked = Vec::new();
+        let m = Matrix::measure(&[0, 2, 5, 7], |a, b| {
+            asked.push((a, b));
+            if die(a) == die(b) {
+                50.0
+            } else {
+                400.0
+            }
+        });
+        assert_eq!(asked, [(0, 2), (0, 5), (0, 7), (2, 5), (2, 7), (5, 7)]);
+        assert_eq!(m.get(7, 0), Some(400.0));
+        assert_eq!(m.get(5, 7), Some(50.0));
+        let text = m.to_text(|a, b| Some(a == 0 && b == 2));
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(
+            lines[0].split_whitespace().collect::<Vec<_>>(),
+            ["core", "0", "2", "5"]
+        );
+        assert_eq!(
+            lines[3].split_whitespace().collect::<Vec<_>>(),
+            ["7", "400", "f", "400", "f", "50", "n"]
+        );
+        assert!(text.contains("two placements: near 50 ns (2 round trips), far 400 ns (4)"));
+        assert!(text.contains("thread siblings by the OS: 0,2"), "{text}");
+    }
+
+    #[test]
+    fn a_matrix_needs_two_different_cores() {
+        assert!(check_matrix_cores(&[0, 1, 2]).is_ok());
+        let e = check_matrix_cores(&[1, 1]).unwrap_err().0;
+        assert!(e.starts_with("--cores: "), "{e}");
+        let e = check_matrix_cores(&[3]).unwrap_err().0;
+        assert!(e.starts_with("--matrix: needs at least two cores"), "{e}");
+    }
+}

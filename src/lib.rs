@@ -19,6 +19,7 @@ pub mod machine;
 pub mod measure;
 pub mod named;
 pub mod ocean;
+pub mod placement;
 pub mod projected;
 pub mod report;
 pub mod results;

@@ -65,6 +65,10 @@ pub struct Cell {
     /// fog's volume, octaves and time per part of its pass; absent for other kinds).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub work: Option<crate::workload::WorkRecord>,
+    /// Trials re-run because the cell mixed placements, and set aside because another
+    /// placement reached the cell's trial count first (absent when none was).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub set_aside: Vec<TrialRecord>,
 }
 
 impl Cell {
@@ -82,6 +86,13 @@ impl Cell {
     /// explains (the tables' ‡).
     pub fn unexplained_slow_trials(&self) -> usize {
         self.trials.iter().filter(|t| t.unexplained()).count()
+    }
+
+    /// Whether its kept trials ran in more than one placement, or moved during one (the tables'
+    /// §), by their labels ([`crate::placement::label`]).
+    pub fn mixed_placements(&self) -> bool {
+        let classes: Vec<_> = self.trials.iter().map(|t| t.placement).collect();
+        crate::placement::mixed(&classes)
     }
 
     /// The cell's workload level in [`Cell::workload_unit`].
@@ -181,6 +192,11 @@ pub struct Placement {
     pub during: Vec<RoundTrip>,
     /// Measured after the last cell.
     pub after: Option<RoundTrip>,
+    /// Whether the OS lists the two cores as thread siblings of one physical core
+    /// (`thread_siblings_list`; in a VM, the guest's view, not where the host put the vCPUs).
+    /// Absent when not read.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thread_siblings: Option<bool>,
 }
 
 pub use crate::crosscore::PLACEMENT_CHANGE_RATIO;
@@ -213,8 +229,14 @@ impl Placement {
 /// defaults and only the sines were measured. 5: cells carry `grid`, spray's per-trial
 /// `particles` and a kind's own `work` record (the fog's), the config `spray`, `fog` and the
 /// camera's `far` and `path`, and a balance entry its `unit_cost`; absent, the regular grid, no
-/// particle or work records, the defaults, a still camera and a balance in microseconds.
-pub const SCHEMA_VERSION: u32 = 5;
+/// particle or work records, the defaults, a still camera and a balance in microseconds. 6: every
+/// trial (serial and UP too) carries its round trips and `placement`, a cell the trials it
+/// `set_aside` for another placement, the run its `placement` split and whether the OS lists
+/// the two cores as `thread_siblings`, a balance probe its `round_trip_ns`, `step_us` and
+/// `placement`, and a balance entry its headline `placement`, the probes it `set_aside` and
+/// the balance `placements` one by one; absent, placements are inferred from whatever round
+/// trips the file holds (DP trials only, before schema 6).
+pub const SCHEMA_VERSION: u32 = 6;
 
 /// Files written before the field existed have today's layout, version 1.
 fn version_1() -> u32 {
@@ -255,6 +277,10 @@ pub struct Results {
     /// Balance searches a sweep could not complete, and why.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub balance_failures: Vec<String>,
+    /// Every round trip of the run as one cluster or two (near and far), against which each
+    /// trial is placed (absent before schema 6, and when nothing was measured across two cores).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub placement: Option<crate::placement::Split>,
 }
 
 /// Why a results file could not be read; each names the file.

@@ -66,13 +66,18 @@ pub struct TrialRecord {
     pub step_ratio: Option<f64>,
     /// The workload's time per iteration ÷ its calibration in the row (synthetic, above zero).
     pub workload_ratio: Option<f64>,
-    /// Median round trip before and after the trial (ns; two cores only).
+    /// Median round trip before and after the trial (ns; two cores only; DP trials only
+    /// before schema 6).
     pub round_trip_ns: Option<[f64; 2]>,
     /// Whether the noise records mark the trial (today's †).
     pub taken_away: bool,
     /// Present when the trial's FPS is more than the threshold below the cell's median.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub slow: Option<Slow>,
+    /// Where its two cores sat, from its round trips against the run's (absent before
+    /// schema 6, and without round trips).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub placement: Option<crate::placement::Class>,
 }
 
 /// How slow a slow trial was and why.
@@ -164,6 +169,7 @@ pub fn attribute(facts: &[TrialFacts], threshold_percent: f64) -> Vec<TrialRecor
                 round_trip_ns: f.round_trip_ns,
                 taken_away: f.taken_away,
                 slow,
+                placement: None,
             })
         })
         .collect()

@@ -7,10 +7,11 @@ use crate::calibrate::{self, Calibrate, RowCalibration, Yardstick};
 use crate::cell::{Dim, Value};
 use crate::config::{self, InputError, Level, SweepConfig};
 use crate::crosscore;
-use crate::frame_loop::{self, Budget, LoopError, LoopSpec, Mode, Threading};
+use crate::frame_loop::{self, LoopError, LoopSpec, Mode, Threading};
 use crate::machine::Machine;
 use crate::measure::{Breakdown, Mailbox, Summary, Trial};
 use crate::ocean::{Grid, OceanKind, OceanParams};
+use crate::placement::{self, Class, Split};
 use crate::results::{
     CalibrationRecord, Cell, CellKey, CellNoise, LevelRecord, Pins, Placement, Results, StepTime,
 };
@@ -225,6 +226,9 @@ impl Sweep {
                     before,
                     during: Vec::new(),
                     after: None,
+                    thread_siblings: (cores[0] != cores[1])
+                        .then(|| crate::doctor::thread_siblings(cores[0], cores[1]))
+                        .flatten(),
                 },
                 started: utc_now(),
                 finished: None,
@@ -232,6 +236,7 @@ impl Sweep {
                 doctor: None,
                 balance: Vec::new(),
                 balance_failures: Vec::new(),
+                placement: None,
             },
             params,
             cores,
@@ -325,11 +330,13 @@ impl Sweep {
     /// A group is one row of Figure 5-1 (the same value of every row dimension): its cells'
     /// trials run in rotation (A B C A B C ...) so slow drift, such as the vCPUs moving between
     /// near and far placements, hits every cell of the row alike. The cross-core round trip is
-    /// measured again after every group.
+    /// measured around every trial, and again after every group. With `retry_noisy` above 0, a
+    /// cell whose trials mixed placements runs extra rounds (at most that many) until one
+    /// placement holds `trials` of its trials; the others are set aside.
     pub fn run(mut self, observer: &mut impl Observer) -> Results {
         let keys = std::mem::take(&mut self.keys);
         let trials = self.results.config.trials as usize;
-        let total = keys.len() * trials;
+        let mut total = keys.len() * trials;
         let mut done = 0;
         for group in keys.chunk_by(|a, b| a.row() == b.row()) {
             let (iterations, calibration) = self.calibrate_row(&group[0]);
@@ -338,49 +345,37 @@ impl Sweep {
                 .map(|k| self.start_cell(k, iterations, calibration.clone()))
                 .collect();
             for _ in 0..trials {
-                for run in runs.iter_mut().filter(|r| r.error.is_none()) {
-                    observer.trial_starting(Progress {
-                        done,
-                        total,
-                        cell: &run.key,
-                    });
-                    let config = &self.results.config;
-                    let mut retries_left = config.retry_noisy;
-                    loop {
-                        let before = self.trial_round_trip(run.key.mode);
-                        let outcome = frame_loop::run(&run.spec, &config.budget(), |_, _| {});
-                        let around = before.zip(self.trial_round_trip(run.key.mode));
-                        match outcome {
-                            Ok(lr)
-                                if retries_left > 0
-                                    && lr.noise.is_noisy(config.noise_threshold_percent) =>
-                            {
-                                retries_left -= 1;
-                                run.retries += 1;
-                            }
-                            Ok(lr) => {
-                                run.record(lr, config.noise_threshold_percent, around);
-                                break;
-                            }
-                            Err(LoopError::Interrupted) => return self.results,
-                            Err(e) => {
-                                run.error = Some(e.to_string());
-                                break;
-                            }
-                        }
-                    }
-                    done += 1;
+                let live = runs.iter_mut().filter(|r| r.error.is_none());
+                if self.round(live, observer, &mut done, total).is_err() {
+                    return self.results;
                 }
             }
+            for _ in 0..self.results.config.retry_noisy {
+                let split = self.split_with(&runs);
+                let mixed: Vec<&mut CellRun> = runs
+                    .iter_mut()
+                    .filter(|r| r.error.is_none() && r.needs_round(split.as_ref(), trials))
+                    .collect();
+                if mixed.is_empty() {
+                    break;
+                }
+                total += mixed.len();
+                if self.round(mixed, observer, &mut done, total).is_err() {
+                    return self.results;
+                }
+            }
+            let split = self.split_with(&runs);
             let config = &self.results.config;
             let (noise, slow) = (config.noise_threshold_percent, config.slow_trial_percent);
-            self.results
-                .cells
-                .extend(runs.into_iter().map(|r| r.finish(noise, slow)));
+            self.results.cells.extend(
+                runs.into_iter()
+                    .map(|r| r.finish(noise, slow, split.as_ref(), trials)),
+            );
             if self.cores[0] != self.cores[1] {
                 let rt = crosscore::round_trip(self.cores[0], self.cores[1], ROUND_TRIP_BATCHES);
                 self.results.round_trip.during.push(rt);
             }
+            placement::label(&mut self.results);
             observer.row_finished(&self.results);
             if self.stop.load(Ordering::Relaxed) {
                 return self.results;
@@ -398,9 +393,72 @@ impl Sweep {
                 ROUND_TRIP_BATCHES,
             ));
         }
+        placement::label(&mut self.results);
         self.results.finished = Some(utc_now());
         observer.row_finished(&self.results);
         self.results
+    }
+
+    /// One round: a kept trial of each of `runs` in turn, telling `observer` before each.
+    /// `Err` when a stop request arrived.
+    fn round<'r>(
+        &self,
+        runs: impl IntoIterator<Item = &'r mut CellRun>,
+        observer: &mut impl Observer,
+        done: &mut usize,
+        total: usize,
+    ) -> Result<(), LoopError> {
+        for run in runs {
+            observer.trial_starting(Progress {
+                done: *done,
+                total,
+                cell: &run.key,
+            });
+            self.run_trial(run)?;
+            *done += 1;
+        }
+        Ok(())
+    }
+
+    /// One kept trial of `run`, with the round trips around it: a noisy trial is re-run up to
+    /// `retry_noisy` times. `Err` when a stop request arrived.
+    fn run_trial(&self, run: &mut CellRun) -> Result<(), LoopError> {
+        let config = &self.results.config;
+        let mut retries_left = config.retry_noisy;
+        loop {
+            let before = self.trial_round_trip();
+            let outcome = frame_loop::run(&run.spec, &config.budget(), |_, _| {});
+            let around = before.zip(self.trial_round_trip());
+            match outcome {
+                Ok(lr) if retries_left > 0 && lr.noise.is_noisy(config.noise_threshold_percent) => {
+                    retries_left -= 1;
+                    run.retries += 1;
+                }
+                Ok(lr) => {
+                    run.record(lr, config.noise_threshold_percent, around);
+                    return Ok(());
+                }
+                Err(LoopError::Interrupted) => return Err(LoopError::Interrupted),
+                Err(e) => {
+                    run.error = Some(e.to_string());
+                    return Ok(());
+                }
+            }
+        }
+    }
+
+    /// The split of every round trip so far: the finished cells' and the row's under way.
+    fn split_with(&self, runs: &[CellRun]) -> Option<Split> {
+        let row = runs
+            .iter()
+            .flat_map(|r| &r.facts)
+            .filter_map(|f| f.round_trip_ns)
+            .flatten();
+        Split::of(
+            placement::run::round_trips(&self.results)
+                .into_iter()
+                .chain(row),
+        )
     }
 
     /// The workload iterations of a row's cells and how they were set: the yardstick is
@@ -459,11 +517,12 @@ impl Sweep {
         (iterations, Some(calibration))
     }
 
-    /// The median cross-core round trip around a DP trial (ns): about 2,200 cache-line trips
-    /// and two thread starts, 0.5 ms on near cores and a few ms on far ones, to tell a trial
-    /// whose threads moved between near and far. `None` for the modes on one core.
-    fn trial_round_trip(&self, mode: Mode) -> Option<f64> {
-        (mode == Mode::Dp && self.cores[0] != self.cores[1]).then(|| {
+    /// The median cross-core round trip around a trial (ns): about 2,200 cache-line trips and
+    /// two thread starts, 0.5 ms on near cores and a few ms on far ones, to place every trial,
+    /// serial and UP ones too (whose own threads share one core, but whose speed the host's
+    /// placement of the vCPUs still sets). `None` when the sweep has one core.
+    fn trial_round_trip(&self) -> Option<f64> {
+        (self.cores[0] != self.cores[1]).then(|| {
             crosscore::round_trip(self.cores[0], self.cores[1], TRIAL_ROUND_TRIP_BATCHES).median_ns
         })
     }
@@ -586,13 +645,43 @@ impl CellRun {
         self.records.extend(run.work_record);
     }
 
-    fn finish(self, threshold_percent: f64, slow_percent: f64) -> Cell {
+    /// Each trial's class against `split`.
+    fn classes(&self, split: Option<&Split>) -> Vec<Option<Class>> {
+        self.facts
+            .iter()
+            .map(|f| split.and_then(|s| s.class_of(&f.round_trip_ns.unwrap_or_default())))
+            .collect()
+    }
+
+    /// Whether the trials mixed placements and no placement holds `trials` of them yet.
+    fn needs_round(&self, split: Option<&Split>, trials: usize) -> bool {
+        placement::needs_round(&self.classes(split), trials)
+    }
+
+    /// The cell: when its trials mixed placements and one placement holds `trials` of them,
+    /// those alone, the others set aside.
+    fn finish(
+        self,
+        threshold_percent: f64,
+        slow_percent: f64,
+        split: Option<&Split>,
+        trials: usize,
+    ) -> Cell {
         let failed = self.error.is_some();
+        let keep = placement::kept(&self.classes(split), trials);
+        let (trials_kept, _) = partition(self.trials, &keep);
+        let (facts, set_aside) = partition(self.facts, &keep);
+        let (noise, _) = partition(self.noise, &keep);
         Cell {
             trials: if failed {
                 Vec::new()
             } else {
-                slow_trials::attribute(&self.facts, slow_percent)
+                slow_trials::attribute(&facts, slow_percent)
+            },
+            set_aside: if failed {
+                Vec::new()
+            } else {
+                slow_trials::attribute(&set_aside, slow_percent)
             },
             workload_iterations: self.spec.workload_amount,
             workload_unit: Some(self.spec.workload_kind.unit().to_string()),
@@ -600,9 +689,9 @@ impl CellRun {
             summary: if failed {
                 None
             } else {
-                Summary::of(&self.trials).map(|s| Summary {
+                Summary::of(&trials_kept).map(|s| Summary {
                     mailbox: (self.key.policy == Some(Policy::Latest))
-                        .then(|| Mailbox::of(&self.trials)),
+                        .then(|| Mailbox::of(&trials_kept)),
                     ..s
                 })
             },
@@ -612,8 +701,8 @@ impl CellRun {
             key: self.key,
             calibration: self.calibration,
             work: WorkRecord::of_trials(&self.records),
-            noise: (!self.noise.is_empty()).then_some(CellNoise {
-                trials: self.noise,
+            noise: (!noise.is_empty()).then_some(CellNoise {
+                trials: noise,
                 threshold_percent,
                 retries: self.retries,
             }),
@@ -621,21 +710,28 @@ impl CellRun {
     }
 }
 
+/// The items whose `keep` is true, and the others, each in order.
+fn partition<T>(items: Vec<T>, keep: &[bool]) -> (Vec<T>, Vec<T>) {
+    let (kept, other): (Vec<_>, Vec<_>) = items.into_iter().zip(keep).partition(|&(_, &k)| k);
+    (
+        kept.into_iter().map(|(t, _)| t).collect(),
+        other.into_iter().map(|(t, _)| t).collect(),
+    )
+}
+
 /// A balance search probes on the sweep's own set-up: its loops, budget, calibration and cores.
 impl Testbed for Sweep {
-    fn loop_spec(&self, key: &CellKey, iterations: u64) -> LoopSpec {
-        Sweep::loop_spec(self, key, iterations)
-    }
-
-    fn budget(&self) -> Budget {
-        self.results.config.budget()
+    fn trial(&self, key: &CellKey, amount: u64) -> Result<Trial, LoopError> {
+        let spec = self.loop_spec(key, amount);
+        frame_loop::run(&spec, &self.results.config.budget(), |_, _| {}).map(|run| run.trial)
     }
 
     fn ns_per_iteration(&self) -> f64 {
         self.results.calibration.workload.ns_per_iteration
     }
 
-    fn cores(&self) -> [usize; 2] {
-        Sweep::cores(self)
+    fn round_trip(&self, batches: usize) -> Option<f64> {
+        let [a, b] = self.cores;
+        (a != b).then(|| crosscore::round_trip(a, b, batches).median_ns)
     }
 }

@@ -116,6 +116,7 @@ fn cell(key: CellKey, fps: f64) -> Cell {
         calibration: None,
         noise: None,
         work: None,
+        set_aside: Vec::new(),
     }
 }
 

@@ -393,6 +393,9 @@ fn a_balance_point_gets_its_section() {
         dp_over_up: None,
         overhead_percent: Some(3.0),
         round_trip_ns: vec![100.0, 110.0],
+        placement: None,
+        set_aside: 0,
+        placements: Vec::new(),
         note: None,
         probes: Vec::new(),
         unit_cost: None,
@@ -443,6 +446,7 @@ fn slow_trials_and_every_noisy_cell_are_listed() {
             below_median_percent: 40.0,
             causes: vec![Cause::Unexplained],
         }),
+        placement: None,
     }];
     let label = cell.key.label();
     let doc = page(&r);

@@ -54,8 +54,11 @@ fn every_trial_is_recorded_with_its_breakdown_canaries_and_round_trips() {
             assert!(t.step_ratio.is_some_and(|r| r > 0.0));
             // The workload canary exists exactly where there is synthetic work to time.
             assert_eq!(t.workload_ratio.is_some(), cell.key.workload == 1);
-            // Round trips around a trial only where the threads have two cores.
-            assert_eq!(t.round_trip_ns.is_some(), cell.key.mode == Mode::Dp);
+            // Round trips around every trial, UP's too, wherever the sweep has two cores.
+            assert_eq!(
+                t.round_trip_ns.is_some(),
+                affinity::allowed_cores().len() >= 2
+            );
             assert_eq!(t.taken_away, {
                 let n = cell.noise.as_ref().unwrap();
                 n.trials[cell.trials.iter().position(|x| x == t).unwrap()]
@@ -63,6 +66,11 @@ fn every_trial_is_recorded_with_its_breakdown_canaries_and_round_trips() {
             });
         }
     }
+    // The trials are placed from them (a preempted ping-pong may leave one unplaced).
+    let two = affinity::allowed_cores().len() >= 2;
+    assert_eq!(results.placement.is_some(), two);
+    let placed = results.cells.iter().flat_map(|c| &c.trials);
+    assert_eq!(placed.filter(|t| t.placement.is_some()).count() > 0, two);
     let text = csv::trials(&results).unwrap();
     let mut lines = text.lines();
     let header = lines.next().unwrap();

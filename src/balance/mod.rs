@@ -10,27 +10,34 @@
 
 pub mod record;
 
-pub use record::{BalanceEntry, BalanceSettings, Probe, Ratio, UnitCost};
+pub use record::{BalanceEntry, BalanceSettings, PlacementBalance, Probe, Ratio, UnitCost};
 
 use crate::cell::CellKey;
-use crate::crosscore;
-use crate::frame_loop::{self, Budget, LoopError, LoopSpec, Mode};
+use crate::frame_loop::{LoopError, Mode};
 use crate::input::InputError;
 use crate::measure::{FrameRecord, Summary, Trial};
+use crate::placement::{Class, Split};
 use crate::stats;
 
-/// What a search needs of the run it probes on: the loop of any cell at a given workload, the
-/// trial budget, the workload's calibration and the two cores.
+/// What a search needs of the run it probes on: a trial of any cell at a given workload, the
+/// workload's calibration and the cross-core round trip. The sweep runs real frame loops; a
+/// test can answer from a model, so the search's logic is checked apart from the scheduler.
 pub trait Testbed {
-    /// The loop of `key` with `iterations` of main-thread work per frame.
-    fn loop_spec(&self, key: &CellKey, iterations: u64) -> LoopSpec;
-    /// When a probe's trial stops.
-    fn budget(&self) -> Budget;
+    /// One trial of `key` with `amount` of main-thread work per frame, in the kind's unit.
+    fn trial(&self, key: &CellKey, amount: u64) -> Result<Trial, LoopError>;
     /// The workload's calibrated speed (ns per iteration).
     fn ns_per_iteration(&self) -> f64;
-    /// The main and helper cores.
-    fn cores(&self) -> [usize; 2];
+    /// The median cache-line round trip between the two cores over `batches` batches (ns);
+    /// `None` on one core.
+    fn round_trip(&self, batches: usize) -> Option<f64>;
 }
+
+/// Batches of the round trip before and after a search.
+const SEARCH_ROUND_TRIP_BATCHES: usize = 300;
+
+/// Batches of the round trip before each round of a probe's paired trials: enough for a
+/// median that tells near from far, as around a sweep's trials.
+const PROBE_ROUND_TRIP_BATCHES: usize = 10;
 
 /// Why a search could not run.
 #[derive(Debug, thiserror::Error)]
@@ -51,15 +58,15 @@ pub enum BalanceError {
     Interrupted,
 }
 
-/// Runs the search and the curve for `key` (a DP or UP cell) on `sweep`'s machine set-up.
+/// Runs the search and the curve for `key` (a DP or UP cell) on `testbed`.
 pub fn search(
-    sweep: &dyn Testbed,
+    testbed: &dyn Testbed,
     key: &CellKey,
     settings: &BalanceSettings,
 ) -> Result<BalanceEntry, BalanceError> {
-    let mut prober = Prober::new(sweep, key, settings);
+    let mut prober = Prober::new(testbed, key, settings);
     prober.unit_cost = prober.unit_cost()?;
-    let before = prober.round_trip();
+    let before = testbed.round_trip(SEARCH_ROUND_TRIP_BATCHES);
     let step_us = prober.step_us()?;
     let mut probes: Vec<Probe> = Vec::new();
     let [from, to] = settings.range;
@@ -80,16 +87,19 @@ pub fn search(
         dp_over_up: None,
         overhead_percent: None,
         round_trip_ns: Vec::new(),
+        placement: None,
+        set_aside: 0,
+        placements: Vec::new(),
         note: None,
         probes: Vec::new(),
         unit_cost: prober.unit_cost.clone(),
     };
+    let seed = stats::seed_from(&key.label());
     if key.mode == Mode::Up {
         entry.note = Some("one core runs both threads: the main thread always waits, so there is no balance point".into());
     } else {
         let (lo, hi, note) = bracket(&prober, &mut probes, step_us, settings)?;
         let at = prober.probe((lo + hi) / 2.0)?;
-        let seed = stats::seed_from(&key.label());
         let over_serial = at.over_serial(seed);
         let max_work = (at.workload_us.max(step_us)) * 1e-3;
         entry.balance_us = Some((lo + hi) / 2.0);
@@ -105,11 +115,210 @@ pub fn search(
     }
     probes.sort_by(|a, b| a.workload_us.total_cmp(&b.workload_us));
     entry.probes = probes;
-    entry.round_trip_ns = [before, prober.round_trip()]
+    entry.round_trip_ns = [before, testbed.round_trip(SEARCH_ROUND_TRIP_BATCHES)]
         .into_iter()
         .flatten()
         .collect();
+    by_placement(&mut entry, seed);
     Ok(entry)
+}
+
+/// Places every probe against the search's own round trips and gives the figures of each
+/// placement from its probes alone. When the probes mixed placements, the headline becomes the
+/// figures of one placement (of those whose probes bracket a balance point, the one most probes
+/// ran in), and the note says how many probes were set aside.
+pub fn by_placement(entry: &mut BalanceEntry, seed: u64) {
+    let trips = entry
+        .probes
+        .iter()
+        .flat_map(|p| &p.round_trip_ns)
+        .chain(&entry.round_trip_ns)
+        .copied();
+    let Some(split) = Split::of(trips) else {
+        return;
+    };
+    for p in &mut entry.probes {
+        p.placement = split.class_of(&p.round_trip_ns);
+    }
+    let count = |class: Class| {
+        entry
+            .probes
+            .iter()
+            .filter(|p| p.placement == Some(class))
+            .count()
+    };
+    let mut classes: Vec<Class> = [Class::Near, Class::Far, Class::One]
+        .into_iter()
+        .filter(|&c| count(c) > 0)
+        .collect();
+    // Most probes first; among equals, near before far (a stable sort keeps the order).
+    classes.sort_by_key(|&c| std::cmp::Reverse(count(c)));
+    let threaded = entry.key.mode != Mode::Up;
+    let mut placements: Vec<PlacementBalance> = classes
+        .iter()
+        .map(|&class| {
+            let probes: Vec<&Probe> = entry
+                .probes
+                .iter()
+                .filter(|p| p.placement == Some(class))
+                .collect();
+            placement_balance(class, &probes, &split, threaded, entry.step_us, seed)
+        })
+        .collect();
+    // The headline: the placement of most probes among those that bracket a balance point,
+    // or of most probes when none does.
+    let Some(first) = placements
+        .iter()
+        .position(|p| p.balance_us.is_some())
+        .or((!placements.is_empty()).then_some(0))
+    else {
+        return;
+    };
+    let head = placements.remove(first);
+    placements.insert(0, head);
+    let primary = placements[0].placement;
+    entry.placements = placements;
+    entry.placement = Some(primary);
+    entry.set_aside = entry.probes.len() - count(primary);
+    if entry.set_aside == 0 {
+        // One placement throughout: the bisection's bracket is the placement's.
+        if let Some(p) = entry.placements.first_mut() {
+            p.balance_us = entry.balance_us;
+            p.balance_us_low = entry.balance_us_low;
+            p.balance_us_high = entry.balance_us_high;
+        }
+        return;
+    }
+    let head = entry.placements[0].clone();
+    let others: Vec<String> = [Class::Near, Class::Far, Class::Moved]
+        .into_iter()
+        .filter(|&c| c != primary)
+        .filter_map(|c| {
+            let n = count(c);
+            (n > 0).then(|| format!("{n} {c}"))
+        })
+        .collect();
+    let unplaced = entry
+        .probes
+        .iter()
+        .filter(|p| p.placement.is_none())
+        .count();
+    let unplaced = if unplaced > 0 {
+        format!(", {unplaced} unplaced")
+    } else {
+        String::new()
+    };
+    let mixed = format!(
+        "probes mixed placements: {} of {} set aside ({}{unplaced}); the figures are the {primary} probes' alone",
+        entry.set_aside,
+        entry.probes.len(),
+        others.join(", ")
+    );
+    if threaded {
+        entry.balance_us = head.balance_us;
+        entry.balance_us_low = head.balance_us_low;
+        entry.balance_us_high = head.balance_us_high;
+        entry.dp_over_serial = head.dp_over_serial.map(|r| r.value);
+        entry.dp_over_serial_low = head.dp_over_serial.map(|r| r.low);
+        entry.dp_over_serial_high = head.dp_over_serial.map(|r| r.high);
+        entry.dp_over_up = head.dp_over_up;
+        entry.overhead_percent = nearest(&entry.probes, primary, head.balance_us).map(|p| {
+            let work = p.workload_us.max(head.step_us.unwrap_or(entry.step_us)) * 1e-3;
+            100.0 * (p.frame_ms / work - 1.0)
+        });
+    }
+    let none = if threaded && head.balance_us.is_none() {
+        ", which bracket no balance point"
+    } else {
+        ""
+    };
+    entry.note = Some(match entry.note.take() {
+        Some(n) => format!("{mixed}{none}; {n}"),
+        None => format!("{mixed}{none}"),
+    });
+}
+
+/// The probe of `class` nearest `workload_us` (the middle of them without one).
+fn nearest(probes: &[Probe], class: Class, workload_us: Option<f64>) -> Option<&Probe> {
+    let of: Vec<&Probe> = probes
+        .iter()
+        .filter(|p| p.placement == Some(class))
+        .collect();
+    match workload_us {
+        Some(w) => of.into_iter().min_by(|a, b| {
+            (a.workload_us - w)
+                .abs()
+                .total_cmp(&(b.workload_us - w).abs())
+        }),
+        None => of.get(of.len() / 2).copied(),
+    }
+}
+
+/// The figures of one placement's `probes` (sorted by workload).
+fn placement_balance(
+    class: Class,
+    probes: &[&Probe],
+    split: &Split,
+    threaded: bool,
+    search_step_us: f64,
+    seed: u64,
+) -> PlacementBalance {
+    let trips: Vec<f64> = probes
+        .iter()
+        .flat_map(|p| &p.round_trip_ns)
+        .copied()
+        .filter(|&ns| split.class(ns) == Some(class))
+        .collect();
+    let (lo, hi) = stats::min_max(&trips);
+    let bracket = threaded.then(|| bracket_of(probes)).flatten();
+    let balance = bracket.map(|(lo, hi)| (lo + hi) / 2.0);
+    let owned: Vec<Probe> = probes.iter().map(|&p| p.clone()).collect();
+    let at = threaded
+        .then(|| nearest(&owned, class, balance.or(Some(search_step_us))))
+        .flatten();
+    let steps: Vec<f64> = probes.iter().filter_map(|p| p.step()).collect();
+    let step_us = match at.and_then(Probe::step) {
+        Some(s) if balance.is_some() => Some(s),
+        _ => (!steps.is_empty()).then(|| stats::median(&steps)),
+    };
+    PlacementBalance {
+        placement: class,
+        probes: probes.len(),
+        round_trip_ns: [lo, hi],
+        step_us,
+        balance_us: balance,
+        balance_us_low: bracket.map(|b| b.0),
+        balance_us_high: bracket.map(|b| b.1),
+        dp_over_serial: at.map(|p| p.over_serial(seed)),
+        dp_over_up: at.and_then(|p| p.over_up(seed)),
+    }
+}
+
+/// The bracket a set of measured probes makes: the highest workload at which the main thread
+/// still waits and the lowest at which the helper idles (either way round when noise crossed
+/// them), narrowed by a probe within noise of the balance between them, as the bisection does.
+/// `None` when every probe is on one side.
+pub fn bracket_of(probes: &[&Probe]) -> Option<(f64, f64)> {
+    let mut sorted: Vec<&Probe> = probes.to_vec();
+    sorted.sort_by(|a, b| a.workload_us.total_cmp(&b.workload_us));
+    let first_above = sorted.iter().position(|p| p.below() == Some(false))?;
+    let last_below = sorted.iter().rposition(|p| p.below() == Some(true))?;
+    let (a, b) = (
+        sorted[last_below].workload_us,
+        sorted[first_above].workload_us,
+    );
+    let (mut lo, mut hi) = (a.min(b), a.max(b));
+    for p in sorted.iter().filter(|p| p.below().is_none()) {
+        let w = p.workload_us;
+        if w > lo && w < hi {
+            let (centre, noise) = (w + stats::mean(&p.signs()), p.noise_us());
+            let (new_lo, new_hi) = ((centre - noise).max(lo), (centre + noise).min(hi));
+            if new_lo < new_hi {
+                (lo, hi) = (new_lo, new_hi);
+            }
+        }
+    }
+    Some((lo, hi))
 }
 
 /// Brackets the sign change among the curve's probes, then bisects; returns the bracket and
@@ -186,12 +395,11 @@ fn bracket(
 
 /// Runs a cell and its twins at a chosen workload.
 struct Prober<'a> {
-    sweep: &'a dyn Testbed,
+    testbed: &'a dyn Testbed,
     key: &'a CellKey,
     serial: CellKey,
     up: Option<CellKey>,
     settings: &'a BalanceSettings,
-    budget: Budget,
     /// The cost of one unit of a kind not counted in the chain's iterations.
     unit_cost: Option<UnitCost>,
 }
@@ -200,19 +408,33 @@ struct Prober<'a> {
 /// particle count.
 const UNIT_COST_AT: u64 = 131_072;
 
+/// The median over a trial's frames of one of their times, in µs.
+fn median_us(trial: &Trial, f: fn(&FrameRecord) -> u64) -> f64 {
+    stats::median(
+        &trial
+            .frames
+            .iter()
+            .map(|r| f(r) as f64 * 1e-3)
+            .collect::<Vec<_>>(),
+    )
+}
+
 impl<'a> Prober<'a> {
-    fn new(sweep: &'a dyn Testbed, key: &'a CellKey, settings: &'a BalanceSettings) -> Prober<'a> {
+    fn new(
+        testbed: &'a dyn Testbed,
+        key: &'a CellKey,
+        settings: &'a BalanceSettings,
+    ) -> Prober<'a> {
         let twin = |mode: Mode| {
             key.with(crate::cell::Dim::Mode, crate::cell::DimValue::value(mode))
                 .expect("a threaded cell has a serial and an UP twin")
         };
         Prober {
-            sweep,
+            testbed,
             key,
             serial: twin(Mode::Serial),
             up: (key.mode == Mode::Dp).then(|| twin(Mode::Up)),
             settings,
-            budget: sweep.budget(),
             unit_cost: None,
         }
     }
@@ -236,16 +458,15 @@ impl<'a> Prober<'a> {
     fn trial(&self, key: &CellKey, workload_us: f64) -> Result<Trial, BalanceError> {
         let amount = match &self.unit_cost {
             Some(cost) => cost.amount(workload_us),
-            None => (workload_us * 1e3 / self.sweep.ns_per_iteration()).round() as u64,
+            None => (workload_us * 1e3 / self.testbed.ns_per_iteration()).round() as u64,
         };
         self.run_at(key, amount)
     }
 
     /// One trial of `key` at `amount` of the kind's unit.
     fn run_at(&self, key: &CellKey, amount: u64) -> Result<Trial, BalanceError> {
-        let spec = self.sweep.loop_spec(key, amount);
-        match frame_loop::run(&spec, &self.budget, |_, _| {}) {
-            Ok(run) => Ok(run.trial),
+        match self.testbed.trial(key, amount) {
+            Ok(trial) => Ok(trial),
             Err(LoopError::Interrupted) => Err(BalanceError::Interrupted),
             Err(source) => Err(BalanceError::Loop {
                 cell: key.label(),
@@ -256,16 +477,11 @@ impl<'a> Prober<'a> {
 
     /// The helper's step S in the cell, with no workload (µs).
     fn step_us(&self) -> Result<f64, BalanceError> {
-        let trial = self.trial(self.key, 0.0)?;
-        let steps: Vec<f64> = trial
-            .frames
-            .iter()
-            .map(|f| f.step_ns as f64 * 1e-3)
-            .collect();
-        Ok(stats::median(&steps))
+        Ok(median_us(&self.trial(self.key, 0.0)?, |r| r.step_ns))
     }
 
-    /// The cell and its twins at `workload_us`, trials interleaved.
+    /// The cell and its twins at `workload_us`, trials interleaved, the round trip timed
+    /// before each round and after the last.
     fn probe(&self, workload_us: f64) -> Result<Probe, BalanceError> {
         let mut probe = Probe {
             workload_us,
@@ -275,20 +491,21 @@ impl<'a> Prober<'a> {
             main_wait_us: Vec::new(),
             helper_wait_us: Vec::new(),
             frame_ms: 0.0,
+            step_us: Vec::new(),
+            round_trip_ns: Vec::new(),
+            placement: None,
         };
         let mut cell_trials = Vec::new();
         for _ in 0..self.settings.trials {
+            probe
+                .round_trip_ns
+                .extend(self.testbed.round_trip(PROBE_ROUND_TRIP_BATCHES));
             let t = self.trial(self.key, workload_us)?;
-            let median_us = |f: fn(&FrameRecord) -> u64| {
-                stats::median(
-                    &t.frames
-                        .iter()
-                        .map(|r| f(r) as f64 * 1e-3)
-                        .collect::<Vec<_>>(),
-                )
-            };
-            probe.main_wait_us.push(median_us(|r| r.wait_ns));
-            probe.helper_wait_us.push(median_us(|r| r.helper_wait_ns));
+            probe.main_wait_us.push(median_us(&t, |r| r.wait_ns));
+            probe
+                .helper_wait_us
+                .push(median_us(&t, |r| r.helper_wait_ns));
+            probe.step_us.push(median_us(&t, |r| r.step_ns));
             probe.fps.push(t.fps());
             cell_trials.push(t);
             probe
@@ -298,13 +515,11 @@ impl<'a> Prober<'a> {
                 probe.up_fps.push(self.trial(up, workload_us)?.fps());
             }
         }
+        probe
+            .round_trip_ns
+            .extend(self.testbed.round_trip(PROBE_ROUND_TRIP_BATCHES));
         probe.frame_ms = Summary::of(&cell_trials).map_or(f64::NAN, |s| s.frame_time_ms.median);
         Ok(probe)
-    }
-
-    fn round_trip(&self) -> Option<f64> {
-        let [a, b] = self.sweep.cores();
-        (a != b).then(|| crosscore::round_trip(a, b, 300).median_ns)
     }
 }
 
@@ -321,6 +536,9 @@ mod tests {
             main_wait_us: main.to_vec(),
             helper_wait_us: helper.to_vec(),
             frame_ms: 5.0,
+            step_us: vec![],
+            round_trip_ns: vec![],
+            placement: None,
         }
     }
 

@@ -3,6 +3,7 @@
 
 use crate::cell::CellKey;
 use crate::input::InputError;
+use crate::placement::Class;
 use crate::stats;
 use serde::{Deserialize, Serialize};
 
@@ -79,6 +80,17 @@ pub struct Probe {
     pub helper_wait_us: Vec<f64>,
     /// The cell's median frame time over every trial (ms).
     pub frame_ms: f64,
+    /// The helper's median step in each of the cell's trials (µs): S timed in every probe,
+    /// beside the workload it is compared with (absent before schema 6).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub step_us: Vec<f64>,
+    /// The cross-core round trip before each round of paired trials and after the last (ns;
+    /// absent before schema 6 and on one core).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub round_trip_ns: Vec<f64>,
+    /// Where the two cores sat during the probe, against the search's round trips.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub placement: Option<Class>,
 }
 
 impl Probe {
@@ -103,6 +115,11 @@ impl Probe {
         } else {
             None
         }
+    }
+
+    /// The helper's step in the probe: the median over its trials (µs); `None` before schema 6.
+    pub fn step(&self) -> Option<f64> {
+        (!self.step_us.is_empty()).then(|| stats::median(&self.step_us))
     }
 
     /// Two standard errors of the mean wait difference over the trials (µs).
@@ -152,7 +169,8 @@ pub struct BalanceEntry {
     /// The cell (its workload index is unused: W is set directly).
     #[serde(flatten)]
     pub key: CellKey,
-    /// The helper's step S, measured in the cell with no workload (µs).
+    /// The helper's step S, measured in the cell with no workload before the search (µs): the
+    /// unit of its range.
     pub step_us: f64,
     /// The balance workload (µs): the middle of the final bracket. Absent when there is none
     /// (UP, where one core runs both).
@@ -174,6 +192,16 @@ pub struct BalanceEntry {
     pub overhead_percent: Option<f64>,
     /// Cache-line round trip between the two cores before and after the search (ns).
     pub round_trip_ns: Vec<f64>,
+    /// The placement the headline figures are in: every probe's, or when the probes mixed
+    /// placements the one most of them ran in (absent before schema 6 and on one core).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub placement: Option<Class>,
+    /// Probes left out of the headline because they ran in another placement or moved.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub set_aside: usize,
+    /// The balance point in each placement the probes ran in.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub placements: Vec<PlacementBalance>,
     /// Why the bracket stopped wider than the tolerance, or why there is no balance point.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
@@ -184,6 +212,42 @@ pub struct BalanceEntry {
     /// ran as W ÷ that many units.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub unit_cost: Option<UnitCost>,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
+}
+
+/// A search's figures from the probes of one placement alone.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PlacementBalance {
+    /// The placement.
+    pub placement: Class,
+    /// Its probes.
+    pub probes: usize,
+    /// Fastest and slowest round trip around them (ns).
+    pub round_trip_ns: [f64; 2],
+    /// The helper's step S in them (µs): at the probe nearest the balance point, or the median
+    /// over them without one.
+    pub step_us: Option<f64>,
+    /// The balance workload (µs), the middle of the bracket its probes make; absent when they
+    /// make none.
+    pub balance_us: Option<f64>,
+    /// The bracket's lower end (µs).
+    pub balance_us_low: Option<f64>,
+    /// Its upper end (µs).
+    pub balance_us_high: Option<f64>,
+    /// DP ÷ serial at its probe nearest the balance point.
+    pub dp_over_serial: Option<Ratio>,
+    /// DP ÷ UP there.
+    pub dp_over_up: Option<Ratio>,
+}
+
+impl PlacementBalance {
+    /// The balance point over the step measured in the same placement.
+    pub fn fraction(&self) -> Option<f64> {
+        Some(self.balance_us? / self.step_us?)
+    }
 }
 
 /// What one unit of a kind's level cost on the main thread.
@@ -203,9 +267,20 @@ impl UnitCost {
 }
 
 impl BalanceEntry {
-    /// The balance point as a fraction of the step.
+    /// The balance point as a fraction of the step: the step its own placement's probes
+    /// timed, or (files before schema 6) the step measured before the search.
     pub fn fraction(&self) -> Option<f64> {
-        self.balance_us.map(|b| b / self.step_us)
+        let step = self
+            .headline()
+            .and_then(|p| p.step_us)
+            .unwrap_or(self.step_us);
+        self.balance_us.map(|b| b / step)
+    }
+
+    /// The figures of the headline's placement.
+    pub fn headline(&self) -> Option<&PlacementBalance> {
+        let class = self.placement?;
+        self.placements.iter().find(|p| p.placement == class)
     }
 
     /// The balance point in the kind's own unit, when the level has one (spray's particles).

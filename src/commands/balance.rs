@@ -7,6 +7,7 @@ use crate::cell::{Axes, Dim};
 use crate::cli::BalanceArgs;
 use crate::config::{InputError, Level, SweepConfig};
 use crate::frame_loop::Mode;
+use crate::placement;
 use crate::report;
 use crate::report::chart::{self, ChartOptions};
 use crate::sweep::{self, Sweep};
@@ -74,6 +75,9 @@ pub(super) fn balance(args: BalanceArgs) -> Result<(), CliError> {
     if let Some(t) = args.trials {
         settings.trials = t;
     }
+    if let Some(cores) = &args.cores {
+        config.cores = Some(cores.clone());
+    }
     settings.validate("--")?;
     if let Some(bad) = config.axes.modes.iter().find(|m| **m == Mode::Serial) {
         return Err(InputError(format!(
@@ -106,7 +110,10 @@ pub(super) fn balance(args: BalanceArgs) -> Result<(), CliError> {
     for key in &cells {
         eprintln!("oceanbench: searching {}", key.label());
         match balance::search(&sweep, key, &settings) {
-            Ok(entry) => results.balance.push(entry),
+            Ok(entry) => {
+                results.balance.push(entry);
+                placement::label(&mut results);
+            }
             Err(BalanceError::Input(e)) => return Err(e.into()),
             Err(BalanceError::Interrupted) => {
                 report::write_all(&dir, &results).map_err(anyhow::Error::from)?;

@@ -1,6 +1,6 @@
 //! `oceanbench doctor`: what on this machine makes measurements noisy, and how to fix it.
 
-use super::{chosen_cores, CliError};
+use super::{two_cores, CliError};
 use crate::cli::DoctorArgs;
 use crate::config::InputError;
 use crate::doctor;
@@ -14,7 +14,7 @@ pub(super) fn doctor(args: DoctorArgs) -> Result<(), CliError> {
         ))
         .into());
     }
-    let [main, helper] = chosen_cores(args.cores.as_deref())?;
+    let [main, helper] = two_cores(args.cores.as_deref())?;
     let mut cores = vec![main];
     if helper != main {
         cores.push(helper);

@@ -1,6 +1,8 @@
-//! `oceanbench latency`: every hand-off method's round trip next to the cache-line floor.
+//! `oceanbench latency`: every hand-off method's round trip next to the cache-line floor, or
+//! with `--matrix` the cache-line round trip of every pair of allowed cores.
 
-use super::{chosen_cores, lock_cores, CliError};
+use super::{lock_cores, two_cores, CliError};
+use crate::affinity;
 use crate::cli::LatencyArgs;
 use crate::config::InputError;
 use crate::report;
@@ -13,7 +15,10 @@ pub(super) fn latency(args: LatencyArgs) -> Result<(), CliError> {
         ))
         .into());
     }
-    let [a, b] = chosen_cores(args.cores.as_deref())?;
+    if args.matrix {
+        return matrix(&args);
+    }
+    let [a, b] = two_cores(args.cores.as_deref())?;
     let _core_locks = lock_cores(&[a, b], &args.wait)?;
     let rows = crate::latency::table(a, b, args.samples);
     print!("{}", crate::latency::to_text(&rows));
@@ -25,6 +30,30 @@ pub(super) fn latency(args: LatencyArgs) -> Result<(), CliError> {
     );
     if let Some(path) = &args.json {
         let text = serde_json::to_string_pretty(&rows).map_err(anyhow::Error::from)?;
+        report::json::write_atomic(path, text.as_bytes())
+            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// `--matrix`: the round trip of every pair of the given cores, or of every allowed core.
+fn matrix(args: &LatencyArgs) -> Result<(), CliError> {
+    let cores: Vec<usize> = match &args.cores {
+        Some(c) => {
+            affinity::check_allowed(c)?;
+            c.clone()
+        }
+        None => affinity::allowed_cores().to_vec(),
+    };
+    crate::latency::check_matrix_cores(&cores)?;
+    let _core_locks = lock_cores(&cores, &args.wait)?;
+    let batches = (args.samples / 200).max(10);
+    let m = crate::latency::Matrix::measure(&cores, |a, b| {
+        crate::crosscore::round_trip(a, b, batches).median_ns
+    });
+    print!("{}", m.to_text(crate::doctor::thread_siblings));
+    if let Some(path) = &args.json {
+        let text = serde_json::to_string_pretty(&m).map_err(anyhow::Error::from)?;
         report::json::write_atomic(path, text.as_bytes())
             .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     }

@@ -7,6 +7,7 @@ mod doctor;
 mod interrupt;
 mod latency;
 mod mesh;
+mod placement;
 mod report;
 mod run;
 mod sweep;
@@ -60,11 +61,16 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
         Command::Mesh(args) => mesh::mesh(args),
         Command::Doctor(args) => doctor::doctor(args),
         Command::Balance(args) => balance::balance(args),
+        Command::Placement(args) => placement::placement(args),
     }
 }
 
+/// Reads a results file, its trials placed (a file from before schema 6 from whatever round
+/// trips it holds).
 fn load_results(path: &Path) -> Result<Results, CliError> {
-    Results::load(path).map_err(|e| InputError(e.to_string()).into())
+    let mut results = Results::load(path).map_err(|e| InputError(e.to_string()))?;
+    crate::placement::label(&mut results);
+    Ok(results)
 }
 
 /// The directory a results path stands for (a results.json's parent, or the directory itself).
@@ -172,6 +178,17 @@ fn chosen_cores(given: Option<&[usize]>) -> Result<[usize; 2], InputError> {
             "--cores: give one or two core ids, got {}",
             affinity::list(&cores)
         ))),
+    }
+}
+
+/// [`chosen_cores`] for a command that measures between the two cores (`latency`, `doctor`):
+/// one core stands for itself, but two must differ.
+fn two_cores(given: Option<&[usize]>) -> Result<[usize; 2], InputError> {
+    match given {
+        Some([a, b]) if a == b => Err(InputError(format!(
+            "--cores: give two different cores (or one), got {a},{b}"
+        ))),
+        _ => chosen_cores(given),
     }
 }
 

@@ -188,6 +188,23 @@ fn print_cells(results: &Results) {
                 p.main_ms
             );
         }
+        let placed = crate::placement::CellPlacement::of(cell);
+        if !placed.classes.is_empty() {
+            let mark = if placed.mixed() {
+                format!(
+                    " {}: its trials mixed placements",
+                    crate::report::markdown::MIXED
+                )
+            } else {
+                String::new()
+            };
+            let aside = if cell.set_aside.is_empty() {
+                String::new()
+            } else {
+                format!(", {} trial(s) set aside", cell.set_aside.len())
+            };
+            println!("  placement: {}{aside}{mark}", placed.fps_line());
+        }
         if let Some(n) = &cell.noise {
             println!(
                 "  noise: kept off its core by other tasks up to {:.2}%, steal up to {:.2}% of a trial, {} involuntary switches; {} noisy trial(s), {} retried",

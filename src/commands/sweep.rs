@@ -61,6 +61,9 @@ fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf, Vec<Lock>)>, CliErr
     let Some(dir) = &args.resume else {
         let mut config = config.unwrap_or_default();
         args.noise.apply(&mut config);
+        if let Some(cores) = &args.cores {
+            config.cores = Some(cores.clone());
+        }
         config.validate()?;
         if let Some(note) = crate::sweep::spray_skips(&config) {
             eprintln!("oceanbench: {note}");

@@ -10,6 +10,7 @@
 //! verdict at all, since a bootstrap of three values says little about the interval.
 
 use crate::cell::{Dim, Value};
+use crate::report::markdown::MIXED;
 use crate::report::shift::{self, BalanceShift};
 use crate::results::{Cell, CellKey, Results, PLACEMENT_CHANGE_RATIO};
 use crate::stats;
@@ -25,6 +26,9 @@ const NOISY: &str = "†";
 
 /// The footnote of [`NOISY`].
 const NOISY_NOTE: &str = "† rests on trials in which other tasks or the hypervisor took more than the noise threshold, or on a slow trial nothing recorded explains: re-run before trusting it";
+
+/// The footnote of [`MIXED`].
+const MIXED_NOTE: &str = "§ rests on a cell whose trials ran in more than one placement of the two cores, or compares cells that ran in different placements (round trips over 2× apart): compare within one placement (docs/noise.md)";
 
 crate::named! {
     /// What a comparison compares, trial by trial.
@@ -143,6 +147,9 @@ pub struct Change {
     /// A side kept trials whose run delay or steal exceeded its noise threshold.
     #[serde(default)]
     pub noisy: bool,
+    /// A side's trials mixed placements, or the two sides ran in different placements.
+    #[serde(default)]
+    pub placement: bool,
     /// The classification against the threshold.
     pub verdict: Verdict,
 }
@@ -443,8 +450,12 @@ impl Comparison {
             let noisy = [p.base, p.new]
                 .iter()
                 .any(|c| c.noisy() || c.unexplained_slow_trials() > 0);
+            let placement = p.base.mixed_placements()
+                || p.new.mixed_placements()
+                || placements_differ(p.base, p.new);
             self.changes.push(Change {
                 noisy,
+                placement,
                 ..change(p.label, p.versus, &b, &n, threshold, seed, self.metric)
             });
         }
@@ -557,7 +568,7 @@ impl Comparison {
         self.rows(&all, "")
     }
 
-    /// The notes under a table: what the marks `*` and `†` mean and why some rows have no
+    /// The notes under a table: what the marks `*`, `†` and `§` mean and why some rows have no
     /// verdict, each only when a row needs it.
     pub fn footnotes(&self) -> Vec<String> {
         let mut out = Vec::new();
@@ -567,6 +578,9 @@ impl Comparison {
         out.extend(self.too_few_note());
         if self.changes.iter().any(|c| c.noisy) {
             out.push(NOISY_NOTE.to_string());
+        }
+        if self.changes.iter().any(|c| c.placement) {
+            out.push(MIXED_NOTE.to_string());
         }
         out
     }
@@ -603,8 +617,9 @@ impl Comparison {
                     None => c.label.clone(),
                 };
                 let noisy = if c.noisy { NOISY } else { "" };
+                let mixed = if c.placement { MIXED } else { "" };
                 [
-                    format!("{}{noisy}", c.verdict.words()),
+                    format!("{}{noisy}{mixed}", c.verdict.words()),
                     pct(c.change_pct),
                     format!("[{}, {}]{mark}", pct(c.ci_low_pct), pct(c.ci_high_pct)),
                     value(self.metric, c.base),
@@ -742,6 +757,24 @@ impl Comparison {
 }
 
 /// A signed percentage; what rounds to zero shows as +0.0%, since "-0.0%" reads as a loss.
+/// Whether two cells ran in different placements: the medians of their trials' round trips
+/// over [`PLACEMENT_CHANGE_RATIO`] apart (between runs, or within one).
+fn placements_differ(a: &Cell, b: &Cell) -> bool {
+    let median = |c: &Cell| {
+        let ns: Vec<f64> = c
+            .trials
+            .iter()
+            .filter_map(|t| t.round_trip_ns)
+            .flatten()
+            .filter(|&ns| ns > 0.0)
+            .collect();
+        (!ns.is_empty()).then(|| stats::median(&ns))
+    };
+    median(a)
+        .zip(median(b))
+        .is_some_and(|(a, b)| a.max(b) > a.min(b) * PLACEMENT_CHANGE_RATIO)
+}
+
 fn pct(v: f64) -> String {
     let v = if (v * 10.0).round() == 0.0 { 0.0 } else { v };
     format!("{v:+.1}%")
@@ -801,6 +834,7 @@ fn change(
         base_trials: base.len(),
         new_trials: new.len(),
         noisy: false,
+        placement: false,
         verdict,
     }
 }

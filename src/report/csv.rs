@@ -1,7 +1,9 @@
 //! CSV files through the `csv` crate, from flat row structs: the results table (one row per
 //! cell, one column per dimension or statistic) and `mesh --out`.
 
+use crate::balance::Ratio;
 use crate::calibrate::Calibrate;
+use crate::placement::{CellPlacement, Class};
 use crate::results::{Cell, CellKey, CellNoise, Results};
 use crate::stats;
 use serde::Serialize;
@@ -62,6 +64,13 @@ struct CellRow<'a> {
     step_ms_in_row: Option<f64>,
     ns_per_iteration_at_start: Option<f64>,
     ns_per_iteration_in_row: Option<f64>,
+    placement: Option<String>,
+    trials_near: usize,
+    trials_far: usize,
+    trials_moved: usize,
+    fps_near: Option<f64>,
+    fps_far: Option<f64>,
+    set_aside: usize,
     error: Option<&'a str>,
 }
 
@@ -73,6 +82,9 @@ impl<'a> CellRow<'a> {
         let mailbox = s.and_then(|s| s.mailbox.as_ref());
         let metrics = s.and_then(|s| s.frame_metrics.as_ref());
         let stat = |f: fn(&crate::measure::Summary) -> f64| s.map(f);
+        let placed = CellPlacement::of(cell);
+        let trials = |c: Class| placed.get(c).map_or(0, |t| t.trials);
+        let fps = |c: Class| placed.get(c).map(|t| t.fps);
         CellRow {
             key: &cell.key,
             workload_iterations: cell.workload_iterations,
@@ -125,6 +137,17 @@ impl<'a> CellRow<'a> {
             step_ms_in_row: cal.map(|c| c.step_ms_in_row),
             ns_per_iteration_at_start: cal.map(|c| c.ns_per_iteration_at_start),
             ns_per_iteration_in_row: cal.map(|c| c.ns_per_iteration_in_row),
+            placement: match placed.only() {
+                Some(c) => Some(c.to_string()),
+                None if placed.mixed() => Some("mixed".into()),
+                None => None,
+            },
+            trials_near: trials(Class::Near),
+            trials_far: trials(Class::Far),
+            trials_moved: trials(Class::Moved),
+            fps_near: fps(Class::Near),
+            fps_far: fps(Class::Far),
+            set_aside: cell.set_aside.len(),
             error: cell.error.as_deref(),
         }
     }
@@ -198,6 +221,7 @@ struct TrialRow<'a> {
     taken_away: bool,
     slow_below_median_percent: Option<f64>,
     slow_causes: Option<String>,
+    placement: Option<Class>,
 }
 
 /// Every trial of every cell as CSV (`trials.csv`), trials numbered from 1 in the order run.
@@ -218,17 +242,15 @@ pub fn trials(results: &Results) -> Result<String, CsvError> {
                 let names: Vec<&str> = s.causes.iter().map(|c| c.name()).collect();
                 names.join(" ")
             }),
+            placement: t.placement,
         })
     });
     to_text(rows)
 }
 
-/// One balance point: the searched cell, then what the search found.
+/// A balance point's bracket and ratios, as a search's headline or one placement's gives them.
 #[derive(Serialize)]
-struct BalanceRow<'a> {
-    #[serde(flatten)]
-    key: &'a CellKey,
-    step_us: f64,
+struct Figures {
     balance_us: Option<f64>,
     balance_us_low: Option<f64>,
     balance_us_high: Option<f64>,
@@ -239,8 +261,42 @@ struct BalanceRow<'a> {
     dp_over_up: Option<f64>,
     dp_over_up_low: Option<f64>,
     dp_over_up_high: Option<f64>,
+}
+
+impl Figures {
+    fn of(
+        bracket: [Option<f64>; 3],
+        fraction: Option<f64>,
+        serial: Option<Ratio>,
+        up: Option<Ratio>,
+    ) -> Figures {
+        Figures {
+            balance_us: bracket[0],
+            balance_us_low: bracket[1],
+            balance_us_high: bracket[2],
+            balance_fraction: fraction,
+            dp_over_serial: serial.map(|r| r.value),
+            dp_over_serial_low: serial.map(|r| r.low),
+            dp_over_serial_high: serial.map(|r| r.high),
+            dp_over_up: up.map(|r| r.value),
+            dp_over_up_low: up.map(|r| r.low),
+            dp_over_up_high: up.map(|r| r.high),
+        }
+    }
+}
+
+/// One balance point: the searched cell, then what the search found.
+#[derive(Serialize)]
+struct BalanceRow<'a> {
+    #[serde(flatten)]
+    key: &'a CellKey,
+    step_us: f64,
+    #[serde(flatten)]
+    figures: Figures,
     overhead_percent: Option<f64>,
     probes: usize,
+    placement: Option<Class>,
+    set_aside: usize,
     note: Option<&'a str>,
 }
 
@@ -259,27 +315,32 @@ struct ProbeRow<'a> {
     main_wait_us: f64,
     helper_wait_us: f64,
     frame_ms: f64,
+    probe_step_us: Option<f64>,
+    round_trip_ns: Option<f64>,
+    placement: Option<Class>,
 }
 
 /// The balance points as CSV: one row per searched cell.
 pub fn balance(results: &Results) -> Result<String, CsvError> {
     let rows = results.balance.iter().map(|e| {
-        let up = e.dp_over_up;
+        let serial = e.dp_over_serial.map(|value| Ratio {
+            value,
+            low: e.dp_over_serial_low.unwrap_or(value),
+            high: e.dp_over_serial_high.unwrap_or(value),
+        });
         BalanceRow {
             key: &e.key,
             step_us: e.step_us,
-            balance_us: e.balance_us,
-            balance_us_low: e.balance_us_low,
-            balance_us_high: e.balance_us_high,
-            balance_fraction: e.fraction(),
-            dp_over_serial: e.dp_over_serial,
-            dp_over_serial_low: e.dp_over_serial_low,
-            dp_over_serial_high: e.dp_over_serial_high,
-            dp_over_up: up.map(|r| r.value),
-            dp_over_up_low: up.map(|r| r.low),
-            dp_over_up_high: up.map(|r| r.high),
+            figures: Figures::of(
+                [e.balance_us, e.balance_us_low, e.balance_us_high],
+                e.fraction(),
+                serial,
+                e.dp_over_up,
+            ),
             overhead_percent: e.overhead_percent,
             probes: e.probes.len(),
+            placement: e.placement,
+            set_aside: e.set_aside,
             note: e.note.as_deref(),
         }
     });
@@ -301,6 +362,46 @@ pub fn balance_probes(results: &Results) -> Result<String, CsvError> {
             main_wait_us: stats::mean(&p.main_wait_us),
             helper_wait_us: stats::mean(&p.helper_wait_us),
             frame_ms: p.frame_ms,
+            probe_step_us: p.step(),
+            round_trip_ns: (!p.round_trip_ns.is_empty()).then(|| stats::median(&p.round_trip_ns)),
+            placement: p.placement,
+        })
+    });
+    to_text(rows)
+}
+
+/// One placement of one balance search: the figures of its probes alone.
+#[derive(Serialize)]
+struct PlacementRow<'a> {
+    #[serde(flatten)]
+    key: &'a CellKey,
+    placement: Class,
+    headline: bool,
+    probes: usize,
+    round_trip_ns_min: f64,
+    round_trip_ns_max: f64,
+    step_us: Option<f64>,
+    #[serde(flatten)]
+    figures: Figures,
+}
+
+/// Each balance search's figures per placement as CSV (`balance-placements.csv`).
+pub fn balance_placements(results: &Results) -> Result<String, CsvError> {
+    let rows = results.balance.iter().flat_map(|e| {
+        e.placements.iter().map(move |p| PlacementRow {
+            key: &e.key,
+            placement: p.placement,
+            headline: Some(p.placement) == e.placement,
+            probes: p.probes,
+            round_trip_ns_min: p.round_trip_ns[0],
+            round_trip_ns_max: p.round_trip_ns[1],
+            step_us: p.step_us,
+            figures: Figures::of(
+                [p.balance_us, p.balance_us_low, p.balance_us_high],
+                p.fraction(),
+                p.dp_over_serial,
+                p.dp_over_up,
+            ),
         })
     });
     to_text(rows)

@@ -1,9 +1,11 @@
 //! The Figure 5-1 table: rows mesh size × workload, columns serial / UP / DP and the ratios, one
 //! table per combination of the other dimensions (hand-off method, threading, normals, kernel...).
 
+use crate::balance::{BalanceEntry, Ratio};
 use crate::calibrate::{self, Calibrate};
 use crate::cell::{Dim, DimValue};
 use crate::frame_loop::Mode;
+use crate::placement::{Class, RunPlacement};
 use crate::results::{Cell, CellKey, CellNoise, Results};
 use crate::slow_trials::{Cause, Slow, TrialRecord};
 use crate::sync::{Policy, SyncMethod};
@@ -15,6 +17,10 @@ pub const NOISY: &str = "†";
 
 /// Marks a cell with a slow trial that nothing recorded explains.
 pub const UNEXPLAINED: &str = "‡";
+
+/// Marks a cell whose kept trials ran in more than one placement of the two cores (or moved
+/// during one).
+pub const MIXED: &str = "§";
 
 /// Worst cells a warning names before it points to the full list.
 const WORST_NAMED: usize = 5;
@@ -55,8 +61,9 @@ impl Table {
     }
 }
 
-/// A cell's FPS with its spread over trials, marked [`NOISY`] when it kept noisy trials and
-/// [`UNEXPLAINED`] when a slow trial has no recorded cause; `failed` or `–` when there is none.
+/// A cell's FPS with its spread over trials, marked [`NOISY`] when it kept noisy trials,
+/// [`UNEXPLAINED`] when a slow trial has no recorded cause and [`MIXED`] when its trials mixed
+/// placements; `failed` or `–` when there is none.
 pub fn fps(cell: Option<&Cell>) -> String {
     match cell {
         Some(
@@ -70,8 +77,9 @@ pub fn fps(cell: Option<&Cell>) -> String {
             } else {
                 ""
             };
+            let mixed = if c.mixed_placements() { MIXED } else { "" };
             format!(
-                "{:.0} ±{:.1}%{noisy}{unexplained}",
+                "{:.0} ±{:.1}%{noisy}{unexplained}{mixed}",
                 s.fps, s.fps_spread.cv_percent
             )
         }
@@ -102,6 +110,9 @@ pub fn preamble(results: &Results) -> String {
     }
     if let Some(line) = round_trip(results) {
         let _ = writeln!(out, "Cross-core round trip {line}  ");
+    }
+    if let Some(line) = placement_line(results) {
+        let _ = writeln!(out, "Placement: {line}  ");
     }
     let _ = writeln!(out, "Workload levels: {}  ", levels(results));
     let calibrated = results.cells.iter().find_map(|c| c.calibration.as_ref());
@@ -173,7 +184,8 @@ pub fn levels(results: &Results) -> String {
 }
 
 /// What makes a run's figures less trustworthy: rows whose yardstick drifted since the start
-/// of the sweep, and cells that kept trials disturbed beyond the noise threshold.
+/// of the sweep, cells that kept trials disturbed beyond the noise threshold, slow trials, and
+/// cells whose trials mixed placements.
 pub fn noise_warnings(results: &Results) -> Vec<String> {
     let mut out = Vec::new();
     let mut drifted: Vec<String> = Vec::new();
@@ -241,6 +253,22 @@ pub fn noise_warnings(results: &Results) -> Vec<String> {
     }
     if let Some(line) = slow_trial_warning(results) {
         out.push(line);
+    }
+    let run = RunPlacement::of(results);
+    let mixed: Vec<String> = run.mixed().map(|c| c.key.label()).collect();
+    if !mixed.is_empty() {
+        let named: Vec<&str> = mixed.iter().take(WORST_NAMED).map(String::as_str).collect();
+        let rest = if mixed.len() > WORST_NAMED {
+            ", ..."
+        } else {
+            ""
+        };
+        out.push(format!(
+            "{} of {} cells kept trials from more than one placement of the two cores ({MIXED} in the tables): {}{rest}; FPS per placement under \"Placement\", and --retry-noisy re-runs such cells (docs/noise.md)",
+            mixed.len(),
+            run.cells.len(),
+            named.join(", ")
+        ));
     }
     out
 }
@@ -375,6 +403,106 @@ pub fn noisy_cells(results: &Results) -> Vec<String> {
         .collect()
 }
 
+/// How the run's round trips split, how its trials and cells fell, and whether the OS lists the
+/// two cores as thread siblings; `None` when nothing was measured across two cores.
+pub fn placement_line(results: &Results) -> Option<String> {
+    let run = RunPlacement::of(results);
+    let mut line = run.summary()?;
+    if run.mixed().next().is_some() {
+        line.push_str(&format!(" ({MIXED} in the tables)"));
+    }
+    // In a VM the guest's topology says nothing of where the host put the vCPUs.
+    line.push_str(match results.round_trip.thread_siblings {
+        Some(true) => "; the OS lists the two cores as thread siblings of one core (in a VM, the guest's view)",
+        Some(false) => "; the OS does not list the two cores as thread siblings (in a VM, the guest's view)",
+        None => "",
+    });
+    Some(line)
+}
+
+/// The cells that mixed placements, set trials aside for one, or ran wholly in the run's less
+/// common placement, with their trials and FPS per placement; `None` in a run of one placement
+/// or without such a cell.
+pub fn placement_table(results: &Results) -> Option<Table> {
+    let run = RunPlacement::of(results);
+    if !run.split.as_ref().is_some_and(|s| s.two()) {
+        return None;
+    }
+    let trials = run.trials();
+    let count = |c: Class| trials.iter().find(|t| t.0 == c).map_or(0, |t| t.1);
+    let minority = if count(Class::Far) <= count(Class::Near) {
+        Class::Far
+    } else {
+        Class::Near
+    };
+    let rows: Vec<Vec<String>> = run
+        .cells
+        .iter()
+        .filter_map(|p| {
+            let cell = results.cell(&p.key)?;
+            let listed = p.mixed() || !cell.set_aside.is_empty() || p.only() == Some(minority);
+            if !listed {
+                return None;
+            }
+            let n = |c: Class| p.get(c).map_or("0".into(), |t| t.trials.to_string());
+            let f = |c: Class| p.get(c).map_or("–".into(), |t| format!("{:.0}", t.fps));
+            Some(vec![
+                p.key.label(),
+                n(Class::Near),
+                n(Class::Far),
+                n(Class::Moved),
+                f(Class::Near),
+                f(Class::Far),
+                cell.set_aside.len().to_string(),
+            ])
+        })
+        .collect();
+    if rows.is_empty() {
+        return None;
+    }
+    let header = [
+        "cell",
+        "near trials",
+        "far trials",
+        "moved",
+        "FPS near",
+        "FPS far",
+        "set aside",
+    ];
+    Some(Table {
+        title: format!("Placement: cells that mixed placements or ran {minority}"),
+        header: header.map(String::from).to_vec(),
+        numeric: header.map(|h| h != "cell").to_vec(),
+        rows,
+        notes: vec![format!(
+            "FPS per placement: the mean of the cell's kept trials in it. {MIXED} in the tables marks a cell whose kept trials mixed placements; set-aside trials ran in the other placement and were re-run (retry_noisy); docs/noise.md says what to do."
+        )],
+    })
+}
+
+/// The placement section: the line, the table of [`placement_table`] and the run's finding.
+pub fn placement(results: &Results) -> String {
+    let Some(line) = placement_line(results) else {
+        return String::new();
+    };
+    let mut first = line.chars();
+    let line: String = first
+        .next()
+        .map_or(String::new(), |c| c.to_uppercase().chain(first).collect());
+    let mut out = format!("### Placement\n\n{line}\n\n");
+    if let Some(t) = placement_table(results) {
+        out.push_str(
+            t.to_markdown()
+                .split_once("\n\n")
+                .map_or("", |(_, rest)| rest),
+        );
+    }
+    if let Some(f) = crate::placement::finding(results) {
+        let _ = writeln!(out, "{}\n", f.sentence);
+    }
+    out
+}
+
 /// The whole markdown report.
 pub fn to_string(results: &Results) -> String {
     let mut out = String::from("# oceanbench results\n\n");
@@ -384,6 +512,7 @@ pub fn to_string(results: &Results) -> String {
     out.push_str(&run_ahead(results));
     out.push_str(&latest(results));
     out.push_str(&waiting(results));
+    out.push_str(&placement(results));
     out.push_str(&balance(results));
     if let Some(t) = particles_table(results) {
         out.push_str(&t.to_markdown());
@@ -620,13 +749,19 @@ pub fn balance_table(results: &Results) -> Option<Table> {
         "DP ÷ UP",
         "overhead",
         "levels ÷ S",
-        "round trip (ns)",
+        "placement",
     ];
     let interval =
         |v: Option<f64>, lo: Option<f64>, hi: Option<f64>, digits: usize| match (v, lo, hi) {
             (Some(v), Some(lo), Some(hi)) => format!("{v:.digits$} [{lo:.digits$}, {hi:.digits$}]"),
             _ => "–".into(),
         };
+    let ratio = |r: Option<Ratio>| {
+        r.map_or("–".into(), |r| {
+            format!("{:.2} [{:.2}, {:.2}]", r.value, r.low, r.high)
+        })
+    };
+    let split = results.placement.as_ref();
     let mut rows = Vec::new();
     let mut notes = Vec::new();
     for e in &results.balance {
@@ -638,9 +773,10 @@ pub fn balance_table(results: &Results) -> Option<Table> {
             .map(|l| format!("w{} {:.2}", l.workload, l.micros / e.step_us))
             .collect();
         let label = e.key.label_without(&[Dim::Workload]);
+        let step = e.headline().and_then(|p| p.step_us).unwrap_or(e.step_us);
         rows.push(vec![
             label.clone(),
-            format!("{:.0}", e.step_us),
+            format!("{step:.0}"),
             match e.balance_amount() {
                 Some((amount, unit)) => format!(
                     "{} = {amount} {unit} at {:.1} ns each",
@@ -656,18 +792,33 @@ pub fn balance_table(results: &Results) -> Option<Table> {
                 e.dp_over_serial_high,
                 2,
             ),
-            e.dp_over_up.map_or("–".into(), |r| {
-                format!("{:.2} [{:.2}, {:.2}]", r.value, r.low, r.high)
-            }),
+            ratio(e.dp_over_up),
             e.overhead_percent
                 .map_or("–".into(), |o| format!("{o:+.1}%")),
             levels.join(", "),
-            e.round_trip_ns
-                .iter()
-                .map(|r| format!("{r:.0}"))
-                .collect::<Vec<_>>()
-                .join(", "),
+            balance_placement(e, split),
         ]);
+        // Each other placement's own figures, from its probes alone.
+        for p in e
+            .placements
+            .iter()
+            .filter(|p| Some(p.placement) != e.placement)
+        {
+            rows.push(vec![
+                format!("{label} ({} probes)", p.placement),
+                p.step_us.map_or("–".into(), |s| format!("{s:.0}")),
+                interval(p.balance_us, p.balance_us_low, p.balance_us_high, 0),
+                p.fraction().map_or("–".into(), |f| format!("{f:.2}")),
+                ratio(p.dp_over_serial),
+                ratio(p.dp_over_up),
+                "–".into(),
+                String::new(),
+                format!(
+                    "{} {:.0}-{:.0} ns, {} probe(s)",
+                    p.placement, p.round_trip_ns[0], p.round_trip_ns[1], p.probes
+                ),
+            ]);
+        }
         if let Some(n) = &e.note {
             notes.push(format!("- {label}: {n}"));
         }
@@ -678,13 +829,43 @@ pub fn balance_table(results: &Results) -> Option<Table> {
             .iter()
             .map(|f| format!("- no balance point: {f}")),
     );
+    if results.balance.iter().any(|e| !e.placements.is_empty()) {
+        notes.push("S is the helper's step timed in the probes of the same placement as W (nearest the balance point); a search whose probes mixed placements gives its headline from one placement's probes and each other placement's on its own row.".into());
+    }
     Some(Table {
         title: "Balance points".into(),
         header: header.map(String::from).to_vec(),
-        numeric: header.map(|h| !matches!(h, "cell" | "levels ÷ S")).to_vec(),
+        numeric: header
+            .map(|h| !matches!(h, "cell" | "levels ÷ S" | "placement"))
+            .to_vec(),
         rows,
         notes,
     })
+}
+
+/// Where a search's probes ran: its headline placement with the round trips around its probes
+/// and the probes set aside; for a file from before schema 6, its round trips before and after
+/// the search, each placed against the run's split.
+fn balance_placement(e: &BalanceEntry, split: Option<&crate::placement::Split>) -> String {
+    if let Some(head) = e.headline() {
+        let aside = if e.set_aside > 0 {
+            format!(", {} of {} probes set aside", e.set_aside, e.probes.len())
+        } else {
+            String::new()
+        };
+        return format!(
+            "{} {:.0}-{:.0} ns{aside}",
+            head.placement, head.round_trip_ns[0], head.round_trip_ns[1]
+        );
+    }
+    e.round_trip_ns
+        .iter()
+        .map(|&ns| match split.and_then(|s| s.class(ns)) {
+            Some(c) => format!("{c} {ns:.0} ns"),
+            None => format!("{ns:.0} ns"),
+        })
+        .collect::<Vec<_>>()
+        .join(" → ")
 }
 
 /// The dimensions every table lays out: rows are size × workload, columns the modes.

@@ -24,7 +24,8 @@ pub struct WriteError {
 }
 
 /// Writes `results.json`, `results.csv`, `trials.csv` and `results.md` into `dir` (and
-/// `balance.csv` and `balance-probes.csv` when there are balance points), each atomically.
+/// `balance.csv` and `balance-probes.csv` when there are balance points, and
+/// `balance-placements.csv` when their probes were placed), each atomically.
 pub fn write_all(dir: &Path, results: &Results) -> Result<(), WriteError> {
     let failed = |name: &str| {
         let path = dir.join(name);
@@ -59,6 +60,13 @@ pub fn write_all(dir: &Path, results: &Results) -> Result<(), WriteError> {
             "balance-probes.csv",
             from_csv("balance-probes.csv", probes)?,
         ));
+        if results.balance.iter().any(|e| !e.placements.is_empty()) {
+            let placements = csv::balance_placements(results);
+            files.push((
+                "balance-placements.csv",
+                from_csv("balance-placements.csv", placements)?,
+            ));
+        }
     }
     for (name, text) in files {
         json::write_atomic(&dir.join(name), text.as_bytes()).map_err(failed(name))?;

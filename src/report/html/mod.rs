@@ -8,7 +8,7 @@
 
 use super::chart::{self, ChartError, ChartOptions, NothingToDraw};
 use super::compare::{Comparison, Verdict};
-use super::markdown::{self, Table, NOISY, UNEXPLAINED};
+use super::markdown::{self, Table, MIXED, NOISY, UNEXPLAINED};
 use crate::cell::{Dim, Value};
 use crate::results::{Cell, Results};
 use maud::{html, Markup, PreEscaped, DOCTYPE};
@@ -78,10 +78,19 @@ pub fn page(
                     "FPS = frames ÷ seconds over every trial; ± is the spread (coefficient of variation) over trials; "
                     (NOISY) " marks a cell that kept a trial in which other tasks or the hypervisor took more than "
                     (results.config.noise_threshold_percent) " % of the time, " (UNEXPLAINED)
-                    " a cell with a slow trial that nothing recorded explains; "
+                    " a cell with a slow trial that nothing recorded explains, " (MIXED)
+                    " a cell whose trials ran in more than one placement of the two cores; "
                     "DP÷UP and DP÷serial are ratios of FPS."
                 }
                 @for t in markdown::fps_tables(results) { (table(&t)) }
+                @if let Some(line) = markdown::placement_line(results) {
+                    h3 id="placement" { "Placement" }
+                    p { (line) }
+                    @if let Some(t) = markdown::placement_table(results) { (table(&t)) }
+                    @if let Some(f) = crate::placement::finding(results) {
+                        p id="placement-finding" { (f.sentence) }
+                    }
+                }
                 @if let Some(t) = markdown::slow_trials(results) { (table(&t)) }
                 @let noisy = markdown::noisy_cells(results);
                 @if !noisy.is_empty() {
@@ -163,6 +172,7 @@ fn what_was_run(results: &Results) -> Markup {
             dt { "OS, kernel" } dd { (machine.os) ", kernel " (machine.kernel) }
             dt { "governor" } dd { (or_missing((!governor.is_empty()).then(|| governor.join("; ")))) }
             dt { "cross-core round trip" } dd { (or_missing(markdown::round_trip(results))) }
+            dt { "placement" } dd { (or_missing(markdown::placement_line(results))) }
             dt { "build" } dd {
                 "oceanbench " (machine.oceanbench_version) ", " (machine.build_profile) ", "
                 (machine.rustc)
