@@ -56,6 +56,13 @@ pub enum Command {
     /// per placement, and whether DP behaved differently on the two (any results file; one
     /// from before placement was recorded is placed from the round trips it holds).
     Placement(PlacementArgs),
+    /// What a run shows, computed from its results file alone: per slice of the run, where
+    /// DP ÷ UP and DP ÷ serial peak, the levels over which DP stays flat, the balance point,
+    /// the fastest and slowest hand-off and how many cells carry noise marks.
+    Findings(FindingsArgs),
+    /// Regenerates (or checks) the measured numbers in README.md and docs/: every block
+    /// between `<!-- ob:... -->` and `<!-- /ob -->` is rewritten from the committed run it names.
+    Docs(DocsArgs),
 }
 
 /// One flag per dimension of a cell (`--size`, `--mode`, `--sync`, ...), each taking a value or
@@ -512,6 +519,39 @@ pub struct PlacementArgs {
     /// Print the cells' placements and the finding as JSON.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Flags of `oceanbench findings`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Examples:\n  oceanbench findings results/figure-5-1-20261125T064618Z\n  oceanbench findings results/fog-20261125T163342Z --json"
+)]
+pub struct FindingsArgs {
+    /// The results directory (or its results.json).
+    pub results: PathBuf,
+    /// Print findings.json's content instead of sentences.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Flags of `oceanbench docs`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Examples:\n  oceanbench docs --check\n  oceanbench docs --write\n  oceanbench docs --numbers"
+)]
+pub struct DocsArgs {
+    /// Rewrite every generated block in place from its run.
+    #[arg(long, conflicts_with_all = ["check", "numbers"])]
+    pub write: bool,
+    /// Exit 1 when a generated block differs from what its run gives (2 when a block is bad).
+    #[arg(long, conflicts_with = "numbers")]
+    pub check: bool,
+    /// List the numbers left outside generated blocks, one per line (file:line: number: text).
+    #[arg(long)]
+    pub numbers: bool,
+    /// The checkout's top folder: README.md, docs/ and the runs are read under it.
+    #[arg(long, default_value = ".")]
+    pub root: PathBuf,
 }
 
 /// Flags of `oceanbench mesh`.

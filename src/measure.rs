@@ -394,6 +394,16 @@ impl Latency {
 }
 
 impl Summary {
+    /// The median trial's FPS (all frames ÷ all seconds when no trial FPS was kept): the
+    /// figure ratios between cells use, which one slow trial does not move.
+    pub fn median_trial_fps(&self) -> f64 {
+        if self.fps_trials.is_empty() {
+            self.fps
+        } else {
+            stats::median(&self.fps_trials)
+        }
+    }
+
     /// Summarises the trials of one cell; `None` when no frame was measured.
     pub fn of(trials: &[Trial]) -> Option<Summary> {
         let all: Vec<&FrameRecord> = trials.iter().flat_map(|t| &t.frames).collect();

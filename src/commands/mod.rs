@@ -3,7 +3,9 @@
 mod balance;
 mod chart;
 mod compare;
+mod docs;
 mod doctor;
+mod findings;
 mod interrupt;
 mod latency;
 mod mesh;
@@ -62,6 +64,8 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
         Command::Doctor(args) => doctor::doctor(args),
         Command::Balance(args) => balance::balance(args),
         Command::Placement(args) => placement::placement(args),
+        Command::Findings(args) => findings::findings(args),
+        Command::Docs(args) => docs::docs(args),
     }
 }
 

@@ -168,7 +168,7 @@ pub(super) fn sweep(args: SweepArgs) -> Result<(), CliError> {
             dir.display()
         )));
     }
-    println!("{}", report::markdown::to_string(&results));
+    println!("{}", report::markdown::body(&results));
     warn_about_placement(&results);
     warn_about_noise(&results);
     if !args.no_charts {
@@ -183,6 +183,8 @@ pub(super) fn sweep(args: SweepArgs) -> Result<(), CliError> {
         super::report::write(&results, &dir, None, &page)?;
         println!("report: {}", page.display());
     }
+    // The findings close the output, where a terminal leaves them in view.
+    print!("{}", crate::findings::of(&results).to_markdown());
     println!("Results: {}", dir.display());
     fail_on_errors(&results)
 }

@@ -88,12 +88,14 @@ pub fn fps(cell: Option<&Cell>) -> String {
     }
 }
 
+/// The ratio of two cells' median trials: one slow trial does not move it, as it moves the
+/// ratio of their all-frames FPS.
 fn ratio(a: Option<&Cell>, b: Option<&Cell>) -> String {
     match (
         a.and_then(|c| c.summary.as_ref()),
         b.and_then(|c| c.summary.as_ref()),
     ) {
-        (Some(a), Some(b)) => format!("{:.2}", a.fps / b.fps),
+        (Some(a), Some(b)) => format!("{:.2}", a.median_trial_fps() / b.median_trial_fps()),
         _ => "–".into(),
     }
 }
@@ -506,6 +508,14 @@ pub fn placement(results: &Results) -> String {
 /// The whole markdown report.
 pub fn to_string(results: &Results) -> String {
     let mut out = String::from("# oceanbench results\n\n");
+    out.push_str(&crate::findings::of(results).to_markdown());
+    out.push_str(&body(results));
+    out
+}
+
+/// The markdown report after its findings: the run's preamble, the tables and the sections.
+pub fn body(results: &Results) -> String {
+    let mut out = String::from("## The run\n\n");
     out.push_str(&preamble(results));
     out.push('\n');
     out.push_str(&tables(results));
@@ -868,6 +878,9 @@ fn balance_placement(e: &BalanceEntry, split: Option<&crate::placement::Split>) 
         .join(" → ")
 }
 
+/// How the tables' FPS and ratios are computed.
+const RATIO_NOTE: &str = "FPS: all frames ÷ all seconds over the trials, ± the trials' coefficient of variation; DP÷UP and DP÷serial: ratios of the cells' median trials.";
+
 /// The dimensions every table lays out: rows are size × workload, columns the modes.
 const TABLE_DIMS: [Dim; 3] = [Dim::Size, Dim::Workload, Dim::Mode];
 
@@ -879,6 +892,12 @@ pub fn tables(results: &Results) -> String {
 
 /// The tables of [`tables`].
 pub fn fps_tables(results: &Results) -> Vec<Table> {
+    fps_tables_of(results).into_iter().map(|(_, t)| t).collect()
+}
+
+/// The tables of [`tables`], each with the slice it lays out ([`crate::findings::Slice`]).
+pub fn fps_tables_of(results: &Results) -> Vec<(crate::findings::Slice, Table)> {
+    let slice_dims = crate::findings::slice_dims(results);
     // A group is a key with the table's own dimensions set to placeholders.
     let group_of = |key: &CellKey| -> CellKey {
         let mut g = key.clone();
@@ -952,13 +971,14 @@ pub fn fps_tables(results: &Results) -> Vec<Table> {
                     ]
                 })
                 .collect();
-            Table {
+            let table = Table {
                 title: format!("FPS, {}", heading.join(", ")),
                 header: header.map(String::from).to_vec(),
                 numeric: header.map(|h| h != "mesh").to_vec(),
                 rows,
-                notes: Vec::new(),
-            }
+                notes: vec![RATIO_NOTE.into()],
+            };
+            (crate::findings::Slice::of(&slice_dims, &g), table)
         })
         .collect()
 }

@@ -23,7 +23,7 @@ pub struct WriteError {
     pub source: std::io::Error,
 }
 
-/// Writes `results.json`, `results.csv`, `trials.csv` and `results.md` into `dir` (and
+/// Writes `results.json`, `findings.json`, `results.csv`, `trials.csv` and `results.md` into `dir` (and
 /// `balance.csv` and `balance-probes.csv` when there are balance points, and
 /// `balance-placements.csv` when their probes were placed), each atomically.
 pub fn write_all(dir: &Path, results: &Results) -> Result<(), WriteError> {
@@ -40,6 +40,12 @@ pub fn write_all(dir: &Path, results: &Results) -> Result<(), WriteError> {
             json::to_string(results).map_err(failed("results.json"))?,
         ),
         ("results.md", markdown::to_string(results)),
+        (
+            "findings.json",
+            crate::findings::of(results)
+                .to_json()
+                .map_err(|e| failed("findings.json")(e.into()))?,
+        ),
     ];
     if !results.cells.is_empty() {
         files.push((

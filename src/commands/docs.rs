@@ -1,0 +1,57 @@
+//! `oceanbench docs`: regenerates, checks or audits the published numbers of README.md and
+//! docs/*.md (see [`crate::publish`]).
+
+use super::CliError;
+use crate::cli::DocsArgs;
+use crate::config::InputError;
+use crate::publish::{self, Context};
+
+pub(super) fn docs(args: DocsArgs) -> Result<(), CliError> {
+    let files = publish::files(&args.root)
+        .map_err(|e| InputError(format!("--root {}: {e}", args.root.display())))?;
+    if args.numbers {
+        let mut count = 0;
+        for file in &files {
+            let text = std::fs::read_to_string(file)
+                .map_err(|e| InputError(format!("{}: {e}", file.display())))?;
+            for (line, number, context) in publish::loose_numbers(&text) {
+                println!("{}:{line}: {number}: {context}", file.display());
+                count += 1;
+            }
+        }
+        eprintln!("{count} number(s) outside generated blocks");
+        return Ok(());
+    }
+    let mut ctx = Context::new(&args.root);
+    // Every file is regenerated before any is written, so a bad block leaves every file as it was.
+    let mut outcomes = Vec::new();
+    for file in &files {
+        let outcome = publish::regenerate(&mut ctx, file).map_err(InputError)?;
+        outcomes.push((file, outcome));
+    }
+    let stale: Vec<String> = outcomes
+        .iter()
+        .flat_map(|(f, o)| o.stale.iter().map(move |l| format!("{}:{l}", f.display())))
+        .collect();
+    if args.write {
+        for (file, outcome) in &outcomes {
+            if !outcome.stale.is_empty() {
+                crate::report::json::write_atomic(file, outcome.text.as_bytes())
+                    .map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))?;
+            }
+        }
+        println!("{} block(s) rewritten", stale.len());
+        return Ok(());
+    }
+    if stale.is_empty() {
+        println!("every generated block matches its run");
+        return Ok(());
+    }
+    for s in &stale {
+        eprintln!("{s}: the block differs from what its run gives (run `oceanbench docs --write`)");
+    }
+    Err(CliError::Run(anyhow::anyhow!(
+        "{} generated block(s) out of date",
+        stale.len()
+    )))
+}

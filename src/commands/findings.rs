@@ -1,0 +1,16 @@
+//! `oceanbench findings`: what a run shows, computed from its results file alone.
+
+use super::{load_results, CliError};
+use crate::cli::FindingsArgs;
+use crate::findings;
+
+pub(super) fn findings(args: FindingsArgs) -> Result<(), CliError> {
+    let results = load_results(&args.results)?;
+    let found = findings::of(&results);
+    if args.json {
+        println!("{}", found.to_json().map_err(anyhow::Error::from)?);
+    } else {
+        print!("{}", found.to_markdown());
+    }
+    Ok(())
+}

@@ -1,0 +1,572 @@
+//! Published numbers: every measured number in README.md and docs/*.md sits in a generated
+//! block ([`blocks`]) that names its committed run, and `oceanbench docs --write` rewrites it
+//! from that run (`--check` fails when a block and its run disagree). Constants quoted from the
+//! code sit in `const` blocks ([`consts`]), so they are checked against the code the same way.
+//!
+//! The kinds of block:
+//! - `table run=R [slice=k=v,...]`: a Figure 5-1 table of one slice, with its source line;
+//! - `findings run=R [id=..] [slice=..] [size=N]`: findings sentences (a list, or one inline);
+//! - `value run=R cell=LABEL [stat=..] [digits=N]`: one cell's number, with its marks;
+//! - `figure run=R finding=ID name=NAME [slice=..] [size=N] [digits=N]`: a finding's number;
+//! - `source run=R`: where a run was made (machine, commit and tree, round trip, placement);
+//! - `levels run=R`: its workload levels;
+//! - `const name=NAME`: a constant of the code.
+
+pub mod blocks;
+pub mod consts;
+
+use crate::cell::Dim;
+use crate::findings::{self, Finding, Findings, Slice};
+use crate::report::markdown;
+use crate::results::{Cell, Results};
+use crate::stats;
+use blocks::Block;
+use std::collections::HashMap;
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+
+/// The files whose numbers are published: README.md and every docs/*.md.
+pub fn files(root: &Path) -> std::io::Result<Vec<PathBuf>> {
+    let mut out = vec![root.join("README.md")];
+    let mut docs: Vec<PathBuf> = std::fs::read_dir(root.join("docs"))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "md"))
+        .collect();
+    docs.sort();
+    out.extend(docs);
+    Ok(out)
+}
+
+/// What a block needs: the checkout's root and the runs read so far.
+pub struct Context {
+    root: PathBuf,
+    runs: HashMap<String, (Results, Findings)>,
+}
+
+/// Why a block cannot be generated (a bad block: `docs --check` exits 2).
+pub type BlockError = String;
+
+impl Context {
+    /// A context reading runs under `root/results/`.
+    pub fn new(root: &Path) -> Context {
+        Context {
+            root: root.to_path_buf(),
+            runs: HashMap::new(),
+        }
+    }
+
+    fn run(&mut self, block: &Block) -> Result<(&str, &Results, &Findings), BlockError> {
+        let name = block
+            .attr("run")
+            .ok_or_else(|| format!("`{}` needs run=NAME (a folder of results/)", block.kind))?
+            .trim_end_matches('/')
+            .trim_start_matches("results/")
+            .to_string();
+        if !self.runs.contains_key(&name) {
+            let path = self.root.join("results").join(&name);
+            if !path.join("results.json").is_file() {
+                return Err(format!(
+                    "run `{name}` does not exist (no results/{name}/results.json)"
+                ));
+            }
+            let mut results = Results::load(&path).map_err(|e| e.to_string())?;
+            crate::placement::label(&mut results);
+            if let Some(why) = refused(&results) {
+                return Err(format!("run `{name}` {why}"));
+            }
+            let found = findings::of(&results);
+            self.runs.insert(name.clone(), (results, found));
+        }
+        let (key, (results, found)) = self.runs.get_key_value(&name).expect("inserted above");
+        Ok((key.as_str(), results, found))
+    }
+
+    /// The generated text of `block` in the file at `file`.
+    pub fn render(&mut self, file: &Path, block: &Block) -> Result<String, BlockError> {
+        let known: &[&str] = match block.kind.as_str() {
+            "table" => &["run", "slice"],
+            "findings" => &["run", "id", "slice", "size"],
+            "value" => &["run", "cell", "stat", "digits"],
+            "figure" => &["run", "finding", "name", "slice", "size", "digits"],
+            "source" | "levels" => &["run"],
+            "const" => &["name"],
+            other => {
+                return Err(format!(
+                    "unknown block kind `{other}` (allowed: table, findings, value, figure, source, levels, const)"
+                ))
+            }
+        };
+        if let Some((k, _)) = block
+            .attrs
+            .iter()
+            .find(|(k, _)| !known.contains(&k.as_str()))
+        {
+            return Err(format!(
+                "`{}` takes no attribute `{k}` (allowed: {})",
+                block.kind,
+                known.join(", ")
+            ));
+        }
+        if block.kind == "const" {
+            let name = block.attr("name").ok_or("`const` needs name=NAME")?;
+            return consts::value(name);
+        }
+        let link = self.link(file, block)?;
+        let multiline = block.multiline;
+        let (_, results, found) = self.run(block)?;
+        let unknown = tree_unknown(results);
+        match block.kind.as_str() {
+            "table" => table(results, block, &link),
+            "findings" => {
+                let chosen = choose(found, block)?;
+                if multiline {
+                    let mut out = source(results, &link);
+                    out.push('\n');
+                    for f in chosen {
+                        let _ = writeln!(out, "- {}", f.sentence);
+                    }
+                    Ok(out)
+                } else if chosen.len() == 1 {
+                    Ok(format!(
+                        "{}{}",
+                        chosen[0].sentence.trim_end_matches('.'),
+                        unknown
+                    ))
+                } else {
+                    Err(format!(
+                        "an inline `findings` span must choose one finding; {} match (add id=, slice= or size=)",
+                        chosen.len()
+                    ))
+                }
+            }
+            "value" => value(results, block).map(|v| format!("{v}{unknown}")),
+            "figure" => {
+                let chosen = choose(found, block)?;
+                let name = block.attr("name").ok_or("`figure` needs name=NAME")?;
+                let [f] = chosen.as_slice() else {
+                    return Err(format!(
+                        "`figure` must choose one finding; {} match (add slice= or size=)",
+                        chosen.len()
+                    ));
+                };
+                let fig = f.figures.iter().find(|g| g.name == name).ok_or_else(|| {
+                    format!(
+                        "finding `{}` has no figure `{name}` (it has: {})",
+                        f.id,
+                        f.figures
+                            .iter()
+                            .map(|g| g.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    )
+                })?;
+                let digits = digits(block, if fig.value >= 100.0 { 0 } else { 2 })?;
+                let marks = if fig.caveats.is_empty() { "" } else { "*" };
+                Ok(format!("{:.digits$}{marks}{unknown}", fig.value))
+            }
+            "source" => Ok(source(results, &link)),
+            "levels" => Ok(markdown::levels(results)),
+            _ => unreachable!("kinds are checked above"),
+        }
+    }
+
+    /// The relative link from `file` to the block's run folder.
+    fn link(&self, file: &Path, block: &Block) -> Result<String, BlockError> {
+        let name = block.attr("run").unwrap_or_default();
+        let name = name.trim_end_matches('/').trim_start_matches("results/");
+        let depth = file
+            .parent()
+            .and_then(|p| p.strip_prefix(&self.root).ok())
+            .map_or(0, |p| p.components().count());
+        Ok(format!("{}results/{name}/", "../".repeat(depth)))
+    }
+}
+
+/// Why a run cannot be cited at all: it was made from a tree with uncommitted changes.
+fn refused(results: &Results) -> Option<String> {
+    match results.machine.tree() {
+        crate::machine::Tree::Dirty { diff_hash } => Some(format!(
+            "was made from a dirty tree (uncommitted changes, diff {diff_hash}): re-run it from a commit"
+        )),
+        _ => None,
+    }
+}
+
+/// What a number from a run recorded before the dirty flag carries beside it.
+fn tree_unknown(results: &Results) -> &'static str {
+    match results.machine.tree() {
+        crate::machine::Tree::Unknown => " (tree unknown)",
+        _ => "",
+    }
+}
+
+/// One line naming where a run was made: its folder, machine, commit and tree, round trip and
+/// placement, and what the marks mean.
+pub fn source(results: &Results, link: &str) -> String {
+    let m = &results.machine;
+    let mut out = format!(
+        "Run [`{}`]({link}) (`{}`): {}, {} logical cores, {}; {}",
+        link.trim_end_matches('/')
+            .rsplit('/')
+            .next()
+            .unwrap_or(link),
+        results.config.name,
+        m.cpu_model,
+        m.logical_cores,
+        m.os,
+        m.provenance_line()
+    );
+    let rts: Vec<f64> = crate::placement::run::round_trips(results);
+    if !rts.is_empty() {
+        let (lo, hi) = stats::min_max(&rts);
+        let _ = write!(out, "; cross-core round trip {lo:.0}-{hi:.0} ns");
+    }
+    if let Some(line) = markdown::placement_line(results) {
+        let _ = write!(out, "; placement: {line}");
+    }
+    out.push_str(". ");
+    out.push_str(MARKS);
+    out.push('\n');
+    out
+}
+
+/// The legend every generated table and list carries.
+const MARKS: &str = "† a kept trial was disturbed beyond the noise threshold, ‡ a slow trial nothing recorded explains, § trials in more than one placement.";
+
+/// `slice=k=v,k=v` as pairs.
+fn slice_filter(block: &Block) -> Result<Vec<(String, String)>, BlockError> {
+    let Some(text) = block.attr("slice") else {
+        return Ok(Vec::new());
+    };
+    text.split(',')
+        .map(|kv| {
+            let (k, v) = kv
+                .split_once('=')
+                .ok_or_else(|| format!("slice: `{kv}` is not key=value"))?;
+            let k = k.trim();
+            if !Dim::ALL.iter().any(|d| d.config_key() == k) {
+                return Err(format!(
+                    "slice: `{k}` is no dimension (allowed: {})",
+                    Dim::ALL
+                        .iter()
+                        .map(|d| d.config_key())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ));
+            }
+            Ok((k.to_string(), v.trim().to_string()))
+        })
+        .collect()
+}
+
+fn size_filter(block: &Block) -> Result<Option<usize>, BlockError> {
+    block
+        .attr("size")
+        .map(|s| {
+            s.parse()
+                .map_err(|_| format!("size: `{s}` is not a whole number"))
+        })
+        .transpose()
+}
+
+fn digits(block: &Block, default: usize) -> Result<usize, BlockError> {
+    match block.attr("digits") {
+        None => Ok(default),
+        Some(d) => d
+            .parse::<usize>()
+            .ok()
+            .filter(|&d| d <= 6)
+            .ok_or_else(|| format!("digits: `{d}` is not 0 to 6")),
+    }
+}
+
+/// The findings a block chooses by id, slice and size.
+fn choose<'a>(found: &'a Findings, block: &Block) -> Result<Vec<&'a Finding>, BlockError> {
+    let filter = slice_filter(block)?;
+    let size = size_filter(block)?;
+    let id = block.attr("id").or(block.attr("finding"));
+    let chosen: Vec<&Finding> = found
+        .findings
+        .iter()
+        .filter(|f| id.is_none_or(|id| f.id == id))
+        .filter(|f| f.slice.matches(&filter))
+        .filter(|f| size.is_none_or(|n| f.size == Some(n)))
+        .collect();
+    if chosen.is_empty() {
+        let ids: Vec<&str> = found.findings.iter().map(|f| f.id.as_str()).collect();
+        return Err(format!(
+            "no finding of the run matches (its findings: {})",
+            dedup(ids).join(", ")
+        ));
+    }
+    Ok(chosen)
+}
+
+fn dedup(mut v: Vec<&str>) -> Vec<&str> {
+    let mut seen = Vec::new();
+    v.retain(|x| {
+        let new = !seen.contains(x);
+        seen.push(*x);
+        new
+    });
+    v
+}
+
+/// The Figure 5-1 table of the slice the block names.
+fn table(results: &Results, block: &Block, link: &str) -> Result<String, BlockError> {
+    let filter = slice_filter(block)?;
+    let tables = markdown::fps_tables_of(results);
+    let chosen: Vec<_> = tables
+        .iter()
+        .filter(|(slice, _)| slice.matches(&filter))
+        .collect();
+    let [(_, t)] = chosen.as_slice() else {
+        let slices: Vec<String> = tables.iter().map(|(s, _)| slice_text(s)).collect();
+        return Err(format!(
+            "slice={} matches {} tables of the run (its slices: {})",
+            block.attr("slice").unwrap_or(""),
+            chosen.len(),
+            slices.join("; ")
+        ));
+    };
+    let mut out = source(results, link);
+    out.push('\n');
+    let md = t.to_markdown();
+    // The heading becomes a caption: a generated block sits inside the page's own sections.
+    let body = md.strip_prefix("### ").unwrap_or(&md);
+    let (title, rest) = body.split_once('\n').unwrap_or((body, ""));
+    let _ = writeln!(out, "{title}:");
+    out.push_str(rest.trim_end());
+    out.push('\n');
+    Ok(out)
+}
+
+fn slice_text(s: &Slice) -> String {
+    if s.values.is_empty() {
+        return "(one slice: no slice= needed)".into();
+    }
+    s.values
+        .iter()
+        .map(|(k, v)| format!("{k}={v}"))
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// One cell's number: `fps` (all frames ÷ all seconds, as the tables), `median` (median
+/// trial), `cv` (% spread), `spread` ((max − min) ÷ median, %), `one_percent_low`, `step_ms`,
+/// `frame_ms`, `wait_cpu_ms`, or a ratio of median trials against its twin: `dp_over_up`,
+/// `dp_over_serial`, `up_over_serial`. Its marks (†, ‡, §) follow it.
+fn value(results: &Results, block: &Block) -> Result<String, BlockError> {
+    let label = block.attr("cell").ok_or("`value` needs cell=LABEL")?;
+    let cell = results
+        .cells
+        .iter()
+        .find(|c| c.key.label() == label)
+        .ok_or_else(|| {
+            format!(
+                "the run has no cell `{label}` (its cells look like `{}`)",
+                results
+                    .cells
+                    .first()
+                    .map(|c| c.key.label())
+                    .unwrap_or_default()
+            )
+        })?;
+    let s = cell
+        .summary
+        .as_ref()
+        .ok_or_else(|| format!("cell `{label}` failed: no number"))?;
+    let stat = block.attr("stat").unwrap_or("fps");
+    let twin = |mode: crate::frame_loop::Mode| -> Result<&Cell, BlockError> {
+        use crate::cell::DimValue;
+        cell.key
+            .with(Dim::Mode, mode.value())
+            .and_then(|k| results.cell(&k))
+            .filter(|c| c.summary.is_some())
+            .ok_or_else(|| format!("cell `{label}` has no {mode} twin in the run"))
+    };
+    let median = |c: &Cell| -> f64 {
+        c.summary
+            .as_ref()
+            .map_or(f64::NAN, |s| s.median_trial_fps())
+    };
+    use crate::frame_loop::Mode;
+    let (number, default_digits, others): (f64, usize, Vec<&Cell>) = match stat {
+        "fps" => (s.fps, 0, vec![]),
+        "median" => (s.median_trial_fps(), 0, vec![]),
+        "cv" => (s.fps_spread.cv_percent, 1, vec![]),
+        "spread" => {
+            let m = s.median_trial_fps();
+            ((s.fps_spread.max - s.fps_spread.min) / m * 100.0, 0, vec![])
+        }
+        "one_percent_low" => (s.one_percent_low_fps, 0, vec![]),
+        "step_ms" => (s.breakdown.step_ms, 3, vec![]),
+        "frame_ms" => (s.seconds / s.frames as f64 * 1e3, 3, vec![]),
+        "wait_cpu_ms" => (s.breakdown.wait_cpu_ms(), 3, vec![]),
+        "dp_over_up" | "dp_over_serial" | "up_over_serial" => {
+            let (mode, over) = match stat {
+                "dp_over_up" => (Mode::Dp, Mode::Up),
+                "dp_over_serial" => (Mode::Dp, Mode::Serial),
+                _ => (Mode::Up, Mode::Serial),
+            };
+            if cell.key.mode != mode {
+                return Err(format!("stat={stat} needs a {mode} cell; `{label}` is {}", cell.key.mode));
+            }
+            let base = twin(over)?;
+            (median(cell) / median(base), 2, vec![base])
+        }
+        other => {
+            return Err(format!(
+                "stat: unknown `{other}` (allowed: fps, median, cv, spread, one_percent_low, step_ms, frame_ms, wait_cpu_ms, dp_over_up, dp_over_serial, up_over_serial)"
+            ))
+        }
+    };
+    let digits = digits(block, default_digits)?;
+    let mut marks = String::new();
+    for c in std::iter::once(cell).chain(others) {
+        for (on, mark) in [
+            (c.noisy(), markdown::NOISY),
+            (c.unexplained_slow_trials() > 0, markdown::UNEXPLAINED),
+            (c.mixed_placements(), markdown::MIXED),
+        ] {
+            if on && !marks.contains(mark) {
+                marks.push_str(mark);
+            }
+        }
+    }
+    let bare = std::iter::once(cell)
+        .filter(|c| c.trials.is_empty())
+        .count()
+        > 0;
+    Ok(format!(
+        "{number:.digits$}{marks}{}",
+        if bare { " (no trial records)" } else { "" }
+    ))
+}
+
+/// What `check` and `write` found in one file.
+#[derive(Debug, Default)]
+pub struct FileOutcome {
+    /// The file's text with every block regenerated.
+    pub text: String,
+    /// Blocks whose text differs from what their run gives (1-based lines).
+    pub stale: Vec<usize>,
+}
+
+/// Regenerates every block of `file`; a bad block is an error naming the file and line.
+pub fn regenerate(ctx: &mut Context, file: &Path) -> Result<FileOutcome, String> {
+    let text = std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let blocks = blocks::parse(&text)
+        .map_err(|e| format!("{}:{}: {}", file.display(), e.line, e.message))?;
+    let mut stale = Vec::new();
+    let new = blocks::rewrite(&text, &blocks, |b| {
+        let body = ctx
+            .render(file, b)
+            .map_err(|e| format!("{}:{}: {e}", file.display(), b.line))?;
+        let old = &text[b.body.clone()];
+        let same = if b.multiline {
+            old.trim_matches('\n') == body.trim_end_matches('\n')
+        } else {
+            old.trim() == body.trim()
+        };
+        if !same {
+            stale.push(b.line);
+        }
+        Ok::<_, String>(body)
+    })?;
+    Ok(FileOutcome { text: new, stale })
+}
+
+/// Each number outside generated blocks, fenced code and inline code, with its line:
+/// `(line, number, the line's text)`.
+pub fn loose_numbers(text: &str) -> Vec<(usize, String, String)> {
+    let mut masked = text.to_string();
+    if let Ok(blocks) = blocks::parse(text) {
+        // Blank each block's text, keeping its newlines so line numbers hold.
+        let mut bytes = masked.into_bytes();
+        for b in &blocks {
+            for i in b.body.clone() {
+                if bytes[i] != b'\n' {
+                    bytes[i] = b' ';
+                }
+            }
+        }
+        masked = String::from_utf8_lossy(&bytes).into_owned();
+    }
+    let mut out = Vec::new();
+    let mut fenced = false;
+    for (i, (line, original)) in masked.lines().zip(text.lines()).enumerate() {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+            continue;
+        }
+        if fenced {
+            continue;
+        }
+        let prose = strip_code_and_links(line);
+        for number in numbers_in(&prose) {
+            out.push((i + 1, number, original.trim().to_string()));
+        }
+    }
+    out
+}
+
+/// The line without inline code, HTML comments, link targets and the opening comment of blocks.
+fn strip_code_and_links(line: &str) -> String {
+    let mut out = String::new();
+    let mut rest = line;
+    while !rest.is_empty() {
+        if let Some(r) = rest.strip_prefix('`') {
+            match r.find('`') {
+                Some(end) => rest = &r[end + 1..],
+                None => rest = "",
+            }
+        } else if let Some(r) = rest.strip_prefix("<!--") {
+            rest = r.find("-->").map_or("", |end| &r[end + 3..]);
+        } else if let Some(r) = rest.strip_prefix("](") {
+            out.push(' ');
+            rest = r.find(')').map_or("", |end| &r[end + 1..]);
+        } else {
+            let c = rest.chars().next().expect("not empty");
+            out.push(c);
+            rest = &rest[c.len_utf8()..];
+        }
+    }
+    out
+}
+
+/// The numbers of a prose line, as written: digits with their decimal point, thousands
+/// separators and a leading sign or trailing percent sign.
+fn numbers_in(text: &str) -> Vec<String> {
+    let chars: Vec<char> = text.chars().collect();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < chars.len() {
+        let starts = chars[i].is_ascii_digit()
+            && (i == 0
+                || !(chars[i - 1].is_alphanumeric() || chars[i - 1] == '_' || chars[i - 1] == '-'));
+        if !starts {
+            i += 1;
+            continue;
+        }
+        let mut j = i;
+        while j < chars.len()
+            && (chars[j].is_ascii_digit()
+                || ((chars[j] == '.' || chars[j] == ',')
+                    && chars.get(j + 1).is_some_and(|c| c.is_ascii_digit())))
+        {
+            j += 1;
+        }
+        // A word with digits in it (x86_64, 2D, f32) is a name, not a number.
+        if chars.get(j).is_some_and(|c| c.is_alphabetic() || *c == '_') {
+            while j < chars.len() && (chars[j].is_alphanumeric() || chars[j] == '_') {
+                j += 1;
+            }
+            i = j;
+            continue;
+        }
+        out.push(chars[i..j].iter().collect());
+        i = j;
+    }
+    out
+}
