@@ -1,0 +1,157 @@
+//! Published numbers: README.md and docs/ agree with the committed runs their blocks name, a
+//! changed value in a run fails the check, and bad blocks are refused with their file and line.
+
+mod common;
+
+use common::{assert_input_error, oceanbench, oceanbench_in};
+use std::path::Path;
+
+#[test]
+fn every_published_block_matches_its_committed_run() {
+    let out = oceanbench(&["docs", "--check"]);
+    assert!(
+        out.status.success(),
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// A checkout of one run (the quick fixture) and a README citing it.
+fn checkout(readme: &str) -> tempfile::TempDir {
+    let root = tempfile::tempdir().unwrap();
+    let run = root.path().join("results/quick-fixture");
+    std::fs::create_dir_all(&run).unwrap();
+    std::fs::create_dir_all(root.path().join("docs")).unwrap();
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json"),
+        run.join("results.json"),
+    )
+    .unwrap();
+    std::fs::write(root.path().join("README.md"), readme).unwrap();
+    root
+}
+
+const README: &str = "# x\n\nSerial runs <!-- ob:value run=quick-fixture cell=\"16 w0 serial neighbors reference\" -->0<!-- /ob --> FPS.\n\n<!-- ob:table run=quick-fixture slice=\"sync=atomic,threading=pool\" -->\n<!-- /ob -->\n";
+
+#[test]
+fn a_changed_value_in_a_run_fails_the_check() {
+    let root = checkout(README);
+    let dir = root.path();
+    assert!(oceanbench_in(dir, &["docs", "--write"]).status.success());
+    let written = std::fs::read_to_string(dir.join("README.md")).unwrap();
+    assert!(
+        !written.contains("-->0<!--"),
+        "the value was generated: {written}"
+    );
+    assert!(
+        written.contains("| mesh | workload | serial | UP | DP |"),
+        "{written}"
+    );
+    assert!(
+        written.contains("(tree unknown)"),
+        "an old run says so: {written}"
+    );
+    assert!(oceanbench_in(dir, &["docs", "--check"]).status.success());
+
+    // One FPS of the run changes: the check names the block's file and line.
+    let path = dir.join("results/quick-fixture/results.json");
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let cell = json["cells"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|c| c["mode"] == "serial" && c["size"] == 16 && c["workload"] == 0)
+        .unwrap();
+    let fps = cell["fps"].as_f64().unwrap();
+    cell["fps"] = (fps * 1.1).into();
+    std::fs::write(&path, serde_json::to_string(&json).unwrap()).unwrap();
+    let out = oceanbench_in(dir, &["docs", "--check"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("README.md:3: the block differs"),
+        "{stderr}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("README.md")).unwrap(),
+        written,
+        "--check writes nothing"
+    );
+}
+
+#[test]
+fn bad_blocks_are_refused_with_their_file_and_line() {
+    let cases = [
+        ("<!-- ob:value run=nowhere cell=x -->1<!-- /ob -->", "run `nowhere` does not exist"),
+        (
+            "<!-- ob:value run=quick-fixture cell=\"999 w0 serial\" -->1<!-- /ob -->",
+            "no cell `999 w0 serial`",
+        ),
+        (
+            "<!-- ob:value run=quick-fixture cell=\"16 w0 serial neighbors reference\" stat=speed -->1<!-- /ob -->",
+            "stat: unknown `speed`",
+        ),
+        ("<!-- ob:chart run=quick-fixture -->1<!-- /ob -->", "unknown block kind `chart`"),
+        ("<!-- ob:table run=quick-fixture -->\n", "no closing"),
+        (
+            "<!-- ob:table run=quick-fixture slice=sync=nothing -->\n<!-- /ob -->",
+            "matches 0 tables",
+        ),
+        ("<!-- ob:const name=nothing -->1<!-- /ob -->", "const: unknown name"),
+    ];
+    for (block, needle) in cases {
+        let text = format!("# x\n\n{block}\n");
+        let root = checkout(&text);
+        for mode in ["--check", "--write"] {
+            let out = oceanbench_in(root.path(), &["docs", mode]);
+            assert_input_error(&out, &["README.md:3:", needle]);
+        }
+        assert_eq!(
+            std::fs::read_to_string(root.path().join("README.md")).unwrap(),
+            text,
+            "a bad block leaves the file as it was"
+        );
+    }
+}
+
+#[test]
+fn findings_of_a_folder_without_results_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = oceanbench(&["findings", dir.path().to_str().unwrap()]);
+    assert_input_error(&out, &["results.json"]);
+}
+
+#[test]
+fn findings_are_computed_from_the_results_file_alone() {
+    let fixture = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json");
+    let out = oceanbench(&["findings", fixture.to_str().unwrap(), "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let findings = json["findings"].as_array().unwrap();
+    let ids: Vec<&str> = findings.iter().map(|f| f["id"].as_str().unwrap()).collect();
+    for id in [
+        "peak-dp-over-up",
+        "peak-dp-over-serial",
+        "marks",
+        "handoffs",
+    ] {
+        assert!(ids.contains(&id), "{id} missing from {ids:?}");
+    }
+    // The fixture sweeps hand-off methods and threading: a slice is one of each.
+    assert_eq!(json["slice_dims"], serde_json::json!(["sync", "threading"]));
+    let again = oceanbench(&["findings", fixture.to_str().unwrap(), "--json"]);
+    assert_eq!(
+        out.stdout, again.stdout,
+        "the same file gives the same findings"
+    );
+    let text = oceanbench(&["findings", fixture.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(text.starts_with("## Findings"), "{text}");
+    assert!(text.contains("**sync atomic, threading pool**"), "{text}");
+}
