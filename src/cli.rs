@@ -532,6 +532,9 @@ pub struct FindingsArgs {
     /// Print findings.json's content instead of sentences.
     #[arg(long)]
     pub json: bool,
+    /// Print every cell's label instead, one per line: what `docs` blocks name a cell by.
+    #[arg(long, conflicts_with = "json")]
+    pub cells: bool,
 }
 
 /// Flags of `oceanbench docs`.

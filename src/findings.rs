@@ -585,7 +585,7 @@ fn marks(results: &Results, slice: &Slice) -> Finding {
         .count();
     let n = cells.len();
     let mut sentence = format!(
-        "Of {n} cells, {noisy} are † (noisy), {unexplained} ‡ (unexplained slow trial), {mixed} § (mixed placements), and {spread} spread over {SPREAD_PERCENT:.0} % across trials"
+        "Marks over the {n} cells: {noisy} † (noisy), {unexplained} ‡ (unexplained slow trial), {mixed} § (mixed placements); {spread} with trials spread over {SPREAD_PERCENT:.0} %"
     );
     if bare > 0 {
         let _ = write!(sentence, "; {bare} have no per-trial records");

@@ -4,7 +4,8 @@
 //! code sit in `const` blocks ([`consts`]), so they are checked against the code the same way.
 //!
 //! The kinds of block:
-//! - `table run=R [slice=k=v,...]`: a Figure 5-1 table of one slice, with its source line;
+//! - `table run=R [slice=k=v,...] [findings=yes]`: a Figure 5-1 table of one slice, with its
+//!   source line (and the slice's findings after it);
 //! - `findings run=R [id=..] [slice=..] [size=N]`: findings sentences (a list, or one inline);
 //! - `value run=R cell=LABEL [stat=..] [digits=N]`: one cell's number, with its marks;
 //! - `figure run=R finding=ID name=NAME [slice=..] [size=N] [digits=N]`: a finding's number;
@@ -84,7 +85,7 @@ impl Context {
     /// The generated text of `block` in the file at `file`.
     pub fn render(&mut self, file: &Path, block: &Block) -> Result<String, BlockError> {
         let known: &[&str] = match block.kind.as_str() {
-            "table" => &["run", "slice"],
+            "table" => &["run", "slice", "findings"],
             "findings" => &["run", "id", "slice", "size"],
             "value" => &["run", "cell", "stat", "digits"],
             "figure" => &["run", "finding", "name", "slice", "size", "digits"],
@@ -116,7 +117,20 @@ impl Context {
         let (_, results, found) = self.run(block)?;
         let unknown = tree_unknown(results);
         match block.kind.as_str() {
-            "table" => table(results, block, &link),
+            "table" => {
+                let mut out = table(results, block, &link)?;
+                match block.attr("findings") {
+                    None | Some("no") => {}
+                    Some("yes") => {
+                        out.push_str("\nWhat the run shows (`oceanbench findings`):\n\n");
+                        for f in choose(found, block)? {
+                            let _ = writeln!(out, "- {}", f.sentence);
+                        }
+                    }
+                    Some(other) => return Err(format!("findings: `{other}` is not yes or no")),
+                }
+                Ok(out)
+            }
             "findings" => {
                 let chosen = choose(found, block)?;
                 if multiline {
@@ -216,13 +230,15 @@ pub fn source(results: &Results, link: &str) -> String {
         m.os,
         m.provenance_line()
     );
-    let rts: Vec<f64> = crate::placement::run::round_trips(results);
-    if !rts.is_empty() {
-        let (lo, hi) = stats::min_max(&rts);
-        let _ = write!(out, "; cross-core round trip {lo:.0}-{hi:.0} ns");
-    }
+    // The placement line names the round trips; a run without one names them alone.
     if let Some(line) = markdown::placement_line(results) {
         let _ = write!(out, "; placement: {line}");
+    } else {
+        let rts: Vec<f64> = crate::placement::run::round_trips(results);
+        if !rts.is_empty() {
+            let (lo, hi) = stats::min_max(&rts);
+            let _ = write!(out, "; cross-core round trip {lo:.0}-{hi:.0} ns");
+        }
     }
     out.push_str(". ");
     out.push_str(MARKS);
@@ -352,78 +368,45 @@ fn slice_text(s: &Slice) -> String {
         .join(",")
 }
 
-/// One cell's number: `fps` (all frames ÷ all seconds, as the tables), `median` (median
-/// trial), `cv` (% spread), `spread` ((max − min) ÷ median, %), `one_percent_low`, `step_ms`,
-/// `frame_ms`, `wait_cpu_ms`, or a ratio of median trials against its twin: `dp_over_up`,
-/// `dp_over_serial`, `up_over_serial`. Its marks (†, ‡, §) follow it.
+/// One cell's number, or the range of several cells' (`cell="A;B;C"` gives `lo-hi`): `fps` (all
+/// frames ÷ all seconds, as the tables), `median` (median trial), `cv` (% spread), `spread`
+/// ((max − min) ÷ median, %), `one_percent_low`, `step_ms`, `frame_ms`, `frame_us`,
+/// `wait_cpu_ms`, `wait_cpu_us`, `repeated_percent` (frames that re-showed a mesh, `latest`), or
+/// a ratio of median trials against its twin: `dp_over_up`, `dp_over_serial`, `up_over_serial`.
+/// The cells' marks (†, ‡, §) follow it.
 fn value(results: &Results, block: &Block) -> Result<String, BlockError> {
-    let label = block.attr("cell").ok_or("`value` needs cell=LABEL")?;
-    let cell = results
-        .cells
-        .iter()
-        .find(|c| c.key.label() == label)
-        .ok_or_else(|| {
-            format!(
-                "the run has no cell `{label}` (its cells look like `{}`)",
-                results
-                    .cells
-                    .first()
-                    .map(|c| c.key.label())
-                    .unwrap_or_default()
-            )
-        })?;
-    let s = cell
-        .summary
-        .as_ref()
-        .ok_or_else(|| format!("cell `{label}` failed: no number"))?;
+    let labels = block.attr("cell").ok_or("`value` needs cell=LABEL")?;
     let stat = block.attr("stat").unwrap_or("fps");
-    let twin = |mode: crate::frame_loop::Mode| -> Result<&Cell, BlockError> {
-        use crate::cell::DimValue;
-        cell.key
-            .with(Dim::Mode, mode.value())
-            .and_then(|k| results.cell(&k))
-            .filter(|c| c.summary.is_some())
-            .ok_or_else(|| format!("cell `{label}` has no {mode} twin in the run"))
-    };
-    let median = |c: &Cell| -> f64 {
-        c.summary
-            .as_ref()
-            .map_or(f64::NAN, |s| s.median_trial_fps())
-    };
-    use crate::frame_loop::Mode;
-    let (number, default_digits, others): (f64, usize, Vec<&Cell>) = match stat {
-        "fps" => (s.fps, 0, vec![]),
-        "median" => (s.median_trial_fps(), 0, vec![]),
-        "cv" => (s.fps_spread.cv_percent, 1, vec![]),
-        "spread" => {
-            let m = s.median_trial_fps();
-            ((s.fps_spread.max - s.fps_spread.min) / m * 100.0, 0, vec![])
-        }
-        "one_percent_low" => (s.one_percent_low_fps, 0, vec![]),
-        "step_ms" => (s.breakdown.step_ms, 3, vec![]),
-        "frame_ms" => (s.seconds / s.frames as f64 * 1e3, 3, vec![]),
-        "wait_cpu_ms" => (s.breakdown.wait_cpu_ms(), 3, vec![]),
-        "dp_over_up" | "dp_over_serial" | "up_over_serial" => {
-            let (mode, over) = match stat {
-                "dp_over_up" => (Mode::Dp, Mode::Up),
-                "dp_over_serial" => (Mode::Dp, Mode::Serial),
-                _ => (Mode::Up, Mode::Serial),
-            };
-            if cell.key.mode != mode {
-                return Err(format!("stat={stat} needs a {mode} cell; `{label}` is {}", cell.key.mode));
-            }
-            let base = twin(over)?;
-            (median(cell) / median(base), 2, vec![base])
-        }
-        other => {
-            return Err(format!(
-                "stat: unknown `{other}` (allowed: fps, median, cv, spread, one_percent_low, step_ms, frame_ms, wait_cpu_ms, dp_over_up, dp_over_serial, up_over_serial)"
-            ))
-        }
-    };
+    let mut numbers = Vec::new();
+    let mut involved: Vec<&Cell> = Vec::new();
+    let mut default_digits = 0;
+    for label in labels.split(';').map(str::trim) {
+        let cell = results
+            .cells
+            .iter()
+            .find(|c| c.key.label() == label)
+            .ok_or_else(|| {
+                format!(
+                    "the run has no cell `{label}` (its cells look like `{}`)",
+                    results
+                        .cells
+                        .first()
+                        .map(|c| c.key.label())
+                        .unwrap_or_default()
+                )
+            })?;
+        let (number, digits, others) = stat_of(results, cell, stat)?;
+        numbers.push(number);
+        default_digits = digits;
+        involved.push(cell);
+        involved.extend(others);
+    }
     let digits = digits(block, default_digits)?;
+    let (lo, hi) = stats::min_max(&numbers);
+    let (lo, hi) = (format!("{lo:.digits$}"), format!("{hi:.digits$}"));
+    let text = if lo == hi { lo } else { format!("{lo}-{hi}") };
     let mut marks = String::new();
-    for c in std::iter::once(cell).chain(others) {
+    for c in &involved {
         for (on, mark) in [
             (c.noisy(), markdown::NOISY),
             (c.unexplained_slow_trials() > 0, markdown::UNEXPLAINED),
@@ -434,14 +417,76 @@ fn value(results: &Results, block: &Block) -> Result<String, BlockError> {
             }
         }
     }
-    let bare = std::iter::once(cell)
-        .filter(|c| c.trials.is_empty())
-        .count()
-        > 0;
+    let bare = involved.iter().any(|c| c.trials.is_empty());
     Ok(format!(
-        "{number:.digits$}{marks}{}",
+        "{text}{marks}{}",
         if bare { " (no trial records)" } else { "" }
     ))
+}
+
+/// A cell's `stat` (see [`value`]), its default digits, and the other cells it read.
+fn stat_of<'a>(
+    results: &'a Results,
+    cell: &'a Cell,
+    stat: &str,
+) -> Result<(f64, usize, Vec<&'a Cell>), BlockError> {
+    use crate::cell::DimValue;
+    use crate::frame_loop::Mode;
+    let label = cell.key.label();
+    let s = cell
+        .summary
+        .as_ref()
+        .ok_or_else(|| format!("cell `{label}` failed: no number"))?;
+    let frame_ms = s.seconds / s.frames as f64 * 1e3;
+    Ok(match stat {
+        "fps" => (s.fps, 0, vec![]),
+        "median" => (s.median_trial_fps(), 0, vec![]),
+        "cv" => (s.fps_spread.cv_percent, 1, vec![]),
+        "spread" => (
+            (s.fps_spread.max - s.fps_spread.min) / s.median_trial_fps() * 100.0,
+            0,
+            vec![],
+        ),
+        "one_percent_low" => (s.one_percent_low_fps, 0, vec![]),
+        "step_ms" => (s.breakdown.step_ms, 2, vec![]),
+        "frame_ms" => (frame_ms, 2, vec![]),
+        "frame_us" => (frame_ms * 1e3, 1, vec![]),
+        "wait_cpu_ms" => (s.breakdown.wait_cpu_ms(), 3, vec![]),
+        "wait_cpu_us" => (s.breakdown.wait_cpu_ms() * 1e3, 0, vec![]),
+        "repeated_percent" => {
+            let m = s
+                .mailbox
+                .as_ref()
+                .ok_or_else(|| format!("cell `{label}` is no `latest` cell: nothing re-shown"))?;
+            (m.repeated as f64 / s.frames as f64 * 100.0, 0, vec![])
+        }
+        "dp_over_up" | "dp_over_serial" | "up_over_serial" => {
+            let (mode, over) = match stat {
+                "dp_over_up" => (Mode::Dp, Mode::Up),
+                "dp_over_serial" => (Mode::Dp, Mode::Serial),
+                _ => (Mode::Up, Mode::Serial),
+            };
+            if cell.key.mode != mode {
+                return Err(format!(
+                    "stat={stat} needs a {mode} cell; `{label}` is {}",
+                    cell.key.mode
+                ));
+            }
+            let base = cell
+                .key
+                .with(Dim::Mode, over.value())
+                .and_then(|k| results.cell(&k))
+                .filter(|c| c.summary.is_some())
+                .ok_or_else(|| format!("cell `{label}` has no {over} twin in the run"))?;
+            let base_fps = base.summary.as_ref().map_or(f64::NAN, |b| b.median_trial_fps());
+            (s.median_trial_fps() / base_fps, 2, vec![base])
+        }
+        other => {
+            return Err(format!(
+                "stat: unknown `{other}` (allowed: fps, median, cv, spread, one_percent_low, step_ms, frame_ms, frame_us, wait_cpu_ms, wait_cpu_us, repeated_percent, dp_over_up, dp_over_serial, up_over_serial)"
+            ))
+        }
+    })
 }
 
 /// What `check` and `write` found in one file.
