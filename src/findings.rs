@@ -107,12 +107,15 @@ pub fn slices(results: &Results) -> Vec<Slice> {
     let of = |key: &CellKey| Slice::of(&dims, key);
     let mut out: Vec<Slice> = Vec::new();
     let threaded = results.cells.iter().any(|c| !c.key.is_serial());
-    for c in results
+    let keys = results
         .cells
         .iter()
-        .filter(|c| !threaded || !c.key.is_serial())
-    {
-        let s = of(&c.key);
+        .map(|c| &c.key)
+        .filter(|k| !threaded || !k.is_serial())
+        // A balance search's cell belongs to a slice even in a run of balance searches alone.
+        .chain(results.balance.iter().map(|e| &e.key));
+    for k in keys {
+        let s = of(k);
         if !out.contains(&s) {
             out.push(s);
         }
@@ -567,7 +570,7 @@ fn balance(results: &Results, slice: &Slice) -> Vec<Finding> {
 }
 
 /// How many of the slice's cells carry each mark, and how many have no trial records.
-fn marks(results: &Results, slice: &Slice) -> Finding {
+fn marks(results: &Results, slice: &Slice) -> Option<Finding> {
     let cells: Vec<&Cell> = results
         .cells
         .iter()
@@ -584,6 +587,9 @@ fn marks(results: &Results, slice: &Slice) -> Finding {
         .filter(|s| s.spread_percent() > SPREAD_PERCENT)
         .count();
     let n = cells.len();
+    if n == 0 {
+        return None;
+    }
     let mut sentence = format!(
         "Marks over the {n} cells: {noisy} † (noisy), {unexplained} ‡ (unexplained slow trial), {mixed} § (mixed placements); {spread} with trials spread over {SPREAD_PERCENT:.0} %"
     );
@@ -597,7 +603,7 @@ fn marks(results: &Results, slice: &Slice) -> Finding {
         cell: None,
         caveats: Vec::new(),
     };
-    Finding {
+    Some(Finding {
         id: "marks".into(),
         slice: slice.clone(),
         size: None,
@@ -610,7 +616,7 @@ fn marks(results: &Results, slice: &Slice) -> Finding {
             figure("spread", spread),
             figure("no_trial_records", bare),
         ],
-    }
+    })
 }
 
 /// The fastest and slowest hand-off per mode, over the rows where every method ran: each
@@ -732,7 +738,7 @@ pub fn of(results: &Results) -> Findings {
         findings.extend(up_over_serial(results, s));
         findings.extend(flat(results, s));
         findings.extend(balance(results, s));
-        findings.push(marks(results, s));
+        findings.extend(marks(results, s));
     }
     findings.extend(handoffs(results));
     if let Some(p) = crate::placement::finding(results) {

@@ -153,7 +153,7 @@ impl Context {
                     ))
                 }
             }
-            "value" => value(results, block).map(|v| format!("{v}{unknown}")),
+            "value" => value(results, block),
             "figure" => {
                 let chosen = choose(found, block)?;
                 let name = block.attr("name").ok_or("`figure` needs name=NAME")?;
@@ -176,7 +176,7 @@ impl Context {
                 })?;
                 let digits = digits(block, if fig.value >= 100.0 { 0 } else { 2 })?;
                 let marks = if fig.caveats.is_empty() { "" } else { "*" };
-                Ok(format!("{:.digits$}{marks}{unknown}", fig.value))
+                Ok(qualified(format!("{:.digits$}{marks}", fig.value), &[unknown]))
             }
             "source" => Ok(source(results, &link)),
             "levels" => Ok(markdown::levels(results)),
@@ -207,11 +207,8 @@ fn refused(results: &Results) -> Option<String> {
 }
 
 /// What a number from a run recorded before the dirty flag carries beside it.
-fn tree_unknown(results: &Results) -> &'static str {
-    match results.machine.tree() {
-        crate::machine::Tree::Unknown => " (tree unknown)",
-        _ => "",
-    }
+fn tree_unknown(results: &Results) -> Option<&'static str> {
+    matches!(results.machine.tree(), crate::machine::Tree::Unknown).then_some("tree unknown")
 }
 
 /// One line naming where a run was made: its folder, machine, commit and tree, round trip and
@@ -371,7 +368,8 @@ fn slice_text(s: &Slice) -> String {
 /// One cell's number, or the range of several cells' (`cell="A;B;C"` gives `lo-hi`): `fps` (all
 /// frames ÷ all seconds, as the tables), `median` (median trial), `cv` (% spread), `spread`
 /// ((max − min) ÷ median, %), `one_percent_low`, `step_ms`, `frame_ms`, `frame_us`,
-/// `wait_cpu_ms`, `wait_cpu_us`, `repeated_percent` (frames that re-showed a mesh, `latest`), or
+/// `wait_cpu_ms`, `wait_cpu_us` (every thread), `main_wait_cpu_us`, `helper_wait_cpu_us`,
+/// `repeated_percent` (frames that re-showed a mesh, `latest`), or
 /// a ratio of median trials against its twin: `dp_over_up`, `dp_over_serial`, `up_over_serial`.
 /// The cells' marks (†, ‡, §) follow it.
 fn value(results: &Results, block: &Block) -> Result<String, BlockError> {
@@ -418,10 +416,20 @@ fn value(results: &Results, block: &Block) -> Result<String, BlockError> {
         }
     }
     let bare = involved.iter().any(|c| c.trials.is_empty());
-    Ok(format!(
-        "{text}{marks}{}",
-        if bare { " (no trial records)" } else { "" }
+    Ok(qualified(
+        format!("{text}{marks}"),
+        &[tree_unknown(results), bare.then_some("no trial records")],
     ))
+}
+
+/// A number with what qualifies it in one parenthesis: `831† (tree unknown; no trial records)`.
+fn qualified(number: String, notes: &[Option<&str>]) -> String {
+    let notes: Vec<&str> = notes.iter().flatten().copied().collect();
+    if notes.is_empty() {
+        number
+    } else {
+        format!("{number} ({})", notes.join("; "))
+    }
 }
 
 /// A cell's `stat` (see [`value`]), its default digits, and the other cells it read.
@@ -453,6 +461,8 @@ fn stat_of<'a>(
         "frame_us" => (frame_ms * 1e3, 1, vec![]),
         "wait_cpu_ms" => (s.breakdown.wait_cpu_ms(), 3, vec![]),
         "wait_cpu_us" => (s.breakdown.wait_cpu_ms() * 1e3, 0, vec![]),
+        "main_wait_cpu_us" => (s.breakdown.wait_cpu_ms * 1e3, 0, vec![]),
+        "helper_wait_cpu_us" => (s.breakdown.helper_wait_cpu_ms * 1e3, 0, vec![]),
         "repeated_percent" => {
             let m = s
                 .mailbox
@@ -483,7 +493,7 @@ fn stat_of<'a>(
         }
         other => {
             return Err(format!(
-                "stat: unknown `{other}` (allowed: fps, median, cv, spread, one_percent_low, step_ms, frame_ms, frame_us, wait_cpu_ms, wait_cpu_us, repeated_percent, dp_over_up, dp_over_serial, up_over_serial)"
+                "stat: unknown `{other}` (allowed: fps, median, cv, spread, one_percent_low, step_ms, frame_ms, frame_us, wait_cpu_ms, wait_cpu_us, main_wait_cpu_us, helper_wait_cpu_us, repeated_percent, dp_over_up, dp_over_serial, up_over_serial)"
             ))
         }
     })
