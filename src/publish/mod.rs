@@ -141,11 +141,8 @@ impl Context {
                     }
                     Ok(out)
                 } else if chosen.len() == 1 {
-                    Ok(format!(
-                        "{}{}",
-                        chosen[0].sentence.trim_end_matches('.'),
-                        unknown
-                    ))
+                    let sentence = chosen[0].sentence.trim_end_matches('.').to_string();
+                    Ok(qualified(sentence, &[unknown]))
                 } else {
                     Err(format!(
                         "an inline `findings` span must choose one finding; {} match (add id=, slice= or size=)",
