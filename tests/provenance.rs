@@ -1,8 +1,9 @@
 //! Which source a run measured: the tree's state read from the machine record, a file from before
-//! the dirty flag read as unknown.
+//! the dirty flag read as unknown, and every report saying a dirty or unknown run is one.
 //! (scripts/provenance-check.sh checks the build end to end: an edit makes the next run dirty.)
 
 use oceanbench::machine::{Machine, Tree};
+use oceanbench::report::{html, markdown};
 use oceanbench::results::Results;
 use std::path::Path;
 
@@ -70,4 +71,24 @@ fn a_file_from_before_the_flag_loads_as_unknown_and_the_flag_round_trips() {
     // Unknown stays absent rather than written as null, as the file it was read from had it.
     let json = serde_json::to_value(machine(None, None)).unwrap();
     assert!(json.get("git_dirty").is_none() && json.get("git_diff_hash").is_none());
+}
+
+#[test]
+fn markdown_and_html_say_a_run_is_dirty_or_unknown() {
+    let mut r = fixture();
+    let unknown = "tree unknown (recorded before the dirty flag)";
+    assert!(markdown::preamble(&r).contains(unknown));
+    assert!(html::page(&r, "fixture", None).unwrap().contains(unknown));
+
+    r.machine = machine(Some(true), Some("0123456789abcdef"));
+    let line = r.machine.provenance_line();
+    let preamble = markdown::preamble(&r);
+    let at = |s: &str| preamble.lines().position(|l| l.starts_with(s)).unwrap();
+    assert_eq!(at("Source: "), at("Machine: ") + 1, "{preamble}");
+    assert!(preamble.contains(&line), "{preamble}");
+    let page = html::page(&r, "fixture", None).unwrap();
+    assert!(
+        page.contains(&format!("<strong>{line}</strong>")),
+        "a dirty run stands out"
+    );
 }
