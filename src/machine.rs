@@ -25,6 +25,28 @@ pub struct Machine {
     /// Git commit of the source, when it was built from a checkout.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub git_commit: Option<String>,
+    /// Whether the source had uncommitted changes to tracked files; absent in files written
+    /// before the flag, and for a build outside a checkout.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub git_dirty: Option<bool>,
+    /// FNV-1a 64 of the uncommitted diff (`git diff HEAD --binary`), as 16 hex digits, when the
+    /// tree was dirty: two dirty runs with the same hash measured the same source.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub git_diff_hash: Option<String>,
+}
+
+/// The state of the source tree a run was built from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Tree {
+    /// The build matched its commit.
+    Clean,
+    /// The build had uncommitted changes, so the commit alone does not name what was measured.
+    Dirty {
+        /// The hash of the uncommitted diff (empty if it was not recorded).
+        diff_hash: String,
+    },
+    /// Not recorded: a file from before the flag, or a build outside a checkout.
+    Unknown,
 }
 
 impl Machine {
@@ -49,6 +71,7 @@ impl Machine {
             .map(|s| s.trim().to_string())
             .unwrap_or_default();
         let commit = env!("OCEANBENCH_GIT_COMMIT");
+        let diff_hash = env!("OCEANBENCH_GIT_DIFF_HASH");
         Machine {
             cpu_model,
             logical_cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
@@ -63,6 +86,43 @@ impl Machine {
                 "release".into()
             },
             git_commit: (!commit.is_empty()).then(|| commit.to_string()),
+            git_dirty: match env!("OCEANBENCH_GIT_DIRTY") {
+                "true" => Some(true),
+                "false" => Some(false),
+                _ => None,
+            },
+            git_diff_hash: (!diff_hash.is_empty()).then(|| diff_hash.to_string()),
+        }
+    }
+
+    /// Whether the source was committed, dirty or not recorded.
+    pub fn tree(&self) -> Tree {
+        match self.git_dirty {
+            Some(false) => Tree::Clean,
+            Some(true) => Tree::Dirty {
+                diff_hash: self.git_diff_hash.clone().unwrap_or_default(),
+            },
+            None => Tree::Unknown,
+        }
+    }
+
+    /// One line saying which source was measured: the commit and whether the tree matched it.
+    pub fn provenance_line(&self) -> String {
+        let Some(commit) = &self.git_commit else {
+            return "no commit recorded".into();
+        };
+        match self.tree() {
+            Tree::Clean => format!("commit {commit}, clean tree"),
+            Tree::Dirty { diff_hash } => {
+                let diff = match diff_hash.as_str() {
+                    "" => String::new(),
+                    hash => format!(", diff {hash}"),
+                };
+                format!("commit {commit}, DIRTY tree (uncommitted changes{diff})")
+            }
+            Tree::Unknown => {
+                format!("commit {commit}, tree unknown (recorded before the dirty flag)")
+            }
         }
     }
 

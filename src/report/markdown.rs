@@ -104,6 +104,7 @@ fn ratio(a: Option<&Cell>, b: Option<&Cell>) -> String {
 pub fn preamble(results: &Results) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "Machine: {}  ", results.machine.line());
+    let _ = writeln!(out, "Source: {}  ", results.machine.provenance_line());
     if let Some((lo, hi)) = results.round_trip.changed() {
         let _ = writeln!(
             out,

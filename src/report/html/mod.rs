@@ -10,6 +10,7 @@ use super::chart::{self, ChartError, ChartOptions, NothingToDraw};
 use super::compare::{Comparison, Verdict};
 use super::markdown::{self, Table, MIXED, NOISY, UNEXPLAINED};
 use crate::cell::{Dim, Value};
+use crate::machine::Tree;
 use crate::results::{Cell, Results};
 use maud::{html, Markup, PreEscaped, DOCTYPE};
 
@@ -176,7 +177,10 @@ fn what_was_run(results: &Results) -> Markup {
             dt { "build" } dd {
                 "oceanbench " (machine.oceanbench_version) ", " (machine.build_profile) ", "
                 (machine.rustc)
-                @if let Some(c) = &machine.git_commit { ", commit " code { (c) } }
+            }
+            dt { "source" } dd {
+                @if let Tree::Dirty { .. } = machine.tree() { strong { (machine.provenance_line()) } }
+                @else { (machine.provenance_line()) }
             }
         }
         h3 { "Noise warnings" }
