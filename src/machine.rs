@@ -139,31 +139,3 @@ impl Machine {
     }
 }
 
-/// Whether the source a run was built from had uncommitted changes.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Tree {
-    /// Built from a commit with no uncommitted change.
-    Clean,
-    /// Built with uncommitted changes; the hash of their diff.
-    Dirty {
-        /// Hash of `git diff HEAD`.
-        diff_hash: String,
-    },
-    /// Recorded before the flag existed.
-    Unknown,
-}
-
-impl Machine {
-    /// Whether the run's source had uncommitted changes.
-    pub fn tree(&self) -> Tree {
-        Tree::Unknown
-    }
-
-    /// The commit and the state of the tree, in words.
-    pub fn provenance_line(&self) -> String {
-        match &self.git_commit {
-            Some(c) => format!("commit {c}, tree unknown (recorded before the dirty flag)"),
-            None => "no commit recorded".into(),
-        }
-    }
-}
