@@ -1,6 +1,7 @@
 //! The commands, one file each; `execute` dispatches a parsed command line to them.
 
 mod balance;
+mod bench_record;
 mod chart;
 mod compare;
 mod doctor;
@@ -62,6 +63,7 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
         Command::Doctor(args) => doctor::doctor(args),
         Command::Balance(args) => balance::balance(args),
         Command::Placement(args) => placement::placement(args),
+        Command::BenchRecord(args) => bench_record::bench_record(args),
     }
 }
 
