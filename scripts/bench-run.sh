@@ -7,7 +7,7 @@
 #   scripts/bench-run.sh fft -- fft-512 --warm-up-time 1 --measurement-time 3
 #
 # What follows BENCH goes to the bench as after `cargo bench --bench BENCH --`.
-# env: OUT (the folder; default results/bench-BENCH-<UTC of the start>), CARGO_TARGET_DIR.
+# env: OUT (the folder; default results/bench-BENCH-<UTC of the stamp>), CARGO_TARGET_DIR.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ $# -lt 1 ]; then
@@ -19,7 +19,6 @@ bench="$1"
 shift
 [ "${1:-}" != "--" ] || shift
 target="${CARGO_TARGET_DIR:-target}"
-out="${OUT:-results/bench-$bench-$(date -u +%Y%m%dT%H%M%SZ)}"
 
 # Built first, so a build failure does not waste the bench.
 cargo build --release --quiet
@@ -28,6 +27,8 @@ mkdir -p "$target"
 stamp="$(mktemp "$target/.bench-run-stamp.XXXXXX")"
 trap 'rm -f "$stamp"' EXIT
 touch "$stamp"
+# Named by the stamp's time, which bench.json records as the run's start.
+out="${OUT:-results/bench-$bench-$(date -u -r "$stamp" +%Y%m%dT%H%M%SZ)}"
 cargo bench --quiet --bench "$bench" -- "$@" >&2
 "$target/release/oceanbench" bench-record "$bench" --criterion-dir "$target/criterion" \
   --since "$stamp" --out "$out" -- "${command[@]}"
