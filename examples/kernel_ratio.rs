@@ -1,16 +1,19 @@
 //! Side-by-side throughput and accuracy of the reference kernel and both fast-kernel paths in
 //! one run.
 //!
-//! `cargo run --release --example kernel_ratio [size] [rounds] [isa] [timing]`: on one pinned
-//! core, times the reference, the per-wave fast path and the fused fast path interleaved (one
-//! after the other each round, so load from other processes hits all alike; on Linux in the
-//! thread's CPU time) and prints million vertices per second (median of the rounds), cycles per vertex at the clock measured at the
-//! start and end of the run, and the ratios. `isa` (avx512, avx2 or portable; default the widest) forces
-//! the fast kernel's and the stencil's instruction set. Then, unless `timing` is given, the max
-//! abs error of height and of each normal component against the f64 oracle for t in
-//! {0, 1, 100, 1e4} and sizes up to 1024, and the largest difference between the two fast
-//! paths.
+//! `cargo run --release --example kernel_ratio [size] [rounds] [isa] [timing] [--out DIR]`: on one
+//! pinned core, times the reference, the per-wave fast path and the fused fast path interleaved
+//! (one after the other each round, so load from other processes hits all alike; on Linux in the
+//! thread's CPU time) and prints million vertices per second (median of the rounds), cycles per
+//! vertex at the clock measured at the start and end of the run, and the ratios. `isa` (avx512,
+//! avx2 or portable; default the widest) forces the fast kernel's and the stencil's instruction
+//! set. Then, unless `timing` is given, the max abs error of height and of each normal component
+//! against the f64 oracle for t in {0, 1, 100, 1e4} and sizes up to 1024, and the largest
+//! difference between the two fast paths. `--out DIR` also writes the timings as a benchmark run,
+//! DIR/bench.json (see docs/performance.md, "Benchmark runs").
 
+use oceanbench::bench_run::{BenchEstimate, BenchRun, SCHEMA_VERSION};
+use oceanbench::machine::Machine;
 use oceanbench::ocean::normals::FaceNormals;
 use oceanbench::ocean::sines::fast::{FastKernel, Isa, Path, StencilNormals};
 use oceanbench::ocean::sines::reference;
@@ -86,20 +89,28 @@ fn time(f: &mut dyn FnMut(), min_s: f64) -> f64 {
     }
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
+fn median(v: &[f64]) -> f64 {
+    let mut v = v.to_vec();
     v.sort_by(|a, b| a.partial_cmp(b).unwrap());
     v[v.len() / 2]
 }
 
-/// Interleaves every function for `rounds`; returns each one's median Mvertices/s.
-fn compare(verts: usize, rounds: usize, fs: &mut [&mut dyn FnMut()]) -> Vec<f64> {
+/// Interleaves every function for `rounds`; returns each one's Mvertices/s per round.
+fn compare(verts: usize, rounds: usize, fs: &mut [&mut dyn FnMut()]) -> Vec<Vec<f64>> {
     let mut rates = vec![Vec::new(); fs.len()];
     for _ in 0..rounds {
         for (f, r) in fs.iter_mut().zip(&mut rates) {
             r.push(verts as f64 / time(*f, 0.05) / 1e6);
         }
     }
-    rates.into_iter().map(median).collect()
+    rates
+}
+
+/// One table row: the case, and the rounds of each path in the reference, per-wave and fused
+/// columns, named as in the estimates' ids (absent where the case has no such path).
+struct Row {
+    case: String,
+    columns: [Option<(&'static str, Vec<f64>)>; 3],
 }
 
 /// Core clock in GHz from a chain of dependent integer adds (one cycle each on every x86-64
@@ -107,7 +118,7 @@ fn compare(verts: usize, rounds: usize, fs: &mut [&mut dyn FnMut()]) -> Vec<f64>
 #[cfg(target_arch = "x86_64")]
 fn clock_ghz() -> f64 {
     const ADDS: u64 = 100_000_000;
-    let runs = (0..5)
+    let runs: Vec<f64> = (0..5)
         .map(|_| {
             let start = now();
             // SAFETY: register arithmetic only.
@@ -127,7 +138,7 @@ fn clock_ghz() -> f64 {
             ADDS as f64 / (now() - start) / 1e9
         })
         .collect();
-    median(runs)
+    median(&runs)
 }
 
 #[cfg(not(target_arch = "x86_64"))]
@@ -159,9 +170,13 @@ fn mesh_diff(a: &Mesh, b: &Mesh) -> f32 {
         .fold(0.0, f32::max)
 }
 
-/// Prints one table row: Mvertices/s, cycles per vertex at `ghz` and ratios; `per_wave` and
-/// `fused` are absent where the case has no such path.
-fn row(name: &str, ghz: f64, reference: f64, per_wave: Option<f64>, fused: Option<f64>) {
+/// Prints one table row: the median Mvertices/s, cycles per vertex at `ghz` and ratios.
+fn print_row(row: &Row, ghz: f64) {
+    let [reference, per_wave, fused] = row
+        .columns
+        .each_ref()
+        .map(|c| c.as_ref().map(|(_, rounds)| median(rounds)));
+    let name = &row.case;
     let cell = |r: Option<f64>| {
         r.map_or("—".to_string(), |r| {
             format!("{r:.0} ({:.2})", ghz * 1e3 / r)
@@ -174,17 +189,54 @@ fn row(name: &str, ghz: f64, reference: f64, per_wave: Option<f64>, fused: Optio
     let best = fused.or(per_wave);
     println!(
         "| {name:<34} | {:>13} | {:>13} | {:>13} | {:>8} | {:>8} | {:>8} |",
-        cell(Some(reference)),
+        cell(reference),
         cell(per_wave),
         cell(fused),
         ratio(fused, per_wave),
-        ratio(per_wave, Some(reference)),
-        ratio(best, Some(reference)),
+        ratio(per_wave, reference),
+        ratio(best, reference),
     );
 }
 
+/// The run's bench.json: per case and path, the median Mvertices/s of the rounds between the
+/// slowest and the fastest round.
+fn bench_run(rows: &[Row], n: usize, rounds: usize, isa: Isa, started: String) -> BenchRun {
+    let estimates = rows
+        .iter()
+        .flat_map(|row| row.columns.iter().flatten().map(move |c| (row, c)))
+        .map(|(row, (path, rates))| BenchEstimate {
+            id: format!("{}/{path}/{n}", row.case),
+            unit: "Mvertices/s".into(),
+            value: median(rates),
+            lower: rates.iter().copied().fold(f64::INFINITY, f64::min),
+            upper: rates.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            throughput: None,
+        })
+        .collect();
+    BenchRun {
+        schema_version: SCHEMA_VERSION,
+        name: "kernel_ratio".into(),
+        started,
+        machine: Machine::current(),
+        command: std::env::args().collect(),
+        source: format!(
+            "examples/kernel_ratio.rs on one pinned core, {n}×{n} grid, fast kernel ISA {}: \
+             million vertices per second from the thread's CPU time, value the median of \
+             {rounds} interleaved rounds, lower and upper the slowest and the fastest round",
+            isa.name()
+        ),
+        estimates,
+    }
+}
+
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let started = oceanbench::sweep::utc_now();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let out = args.iter().position(|a| a == "--out").map(|i| {
+        let dir = args.get(i + 1).expect("--out needs a folder").clone();
+        args.drain(i..=i + 1);
+        std::path::PathBuf::from(dir)
+    });
     let n: usize = args.first().map_or(256, |a| a.parse().unwrap());
     let rounds: usize = args.get(1).map_or(5, |a| a.parse().unwrap());
     let isa = match args.get(2).map(String::as_str) {
@@ -233,17 +285,21 @@ fn main() {
                 *t2 += 0.016;
                 fused.step(m2, *t2, analytic)
             };
-            let r = if has_fused {
+            let mut r = if has_fused {
                 compare(verts, rounds, &mut [&mut f0, &mut f1, &mut f2])
             } else {
                 compare(verts, rounds, &mut [&mut f0, &mut f1])
             };
-            results.push((
-                format!("{what}{label}"),
-                r[0],
-                Some(r[1]),
-                r.get(2).copied(),
-            ));
+            let fused_rates = (r.len() == 3).then(|| ("fused", r.remove(2)));
+            let per_wave_rates = r.remove(1);
+            results.push(Row {
+                case: format!("{what}{label}"),
+                columns: [
+                    Some(("reference", r.remove(0))),
+                    Some(("per-wave", per_wave_rates)),
+                    fused_rates,
+                ],
+            });
         }
     }
 
@@ -253,22 +309,31 @@ fn main() {
     m2.z.copy_from_slice(&m1.z);
     let mut faces = FaceNormals::new(grid);
     let mut stencil = StencilNormals::with_isa(isa);
-    let r = compare(
+    let [faces_rates, stencil_rates]: [Vec<f64>; 2] = compare(
         verts,
         rounds,
         &mut [
             &mut || faces.compute(&mut m1, NormalMethod::Neighbors),
             &mut || stencil.compute(&mut m2),
         ],
-    );
-    results.push(("neighbors normals only".into(), r[0], None, Some(r[1])));
+    )
+    .try_into()
+    .unwrap();
+    results.push(Row {
+        case: "neighbors normals only".into(),
+        columns: [
+            Some(("reference", faces_rates)),
+            None,
+            Some(("stencil", stencil_rates)),
+        ],
+    });
 
     // What `Ocean::step` runs for `neighbors`, spelled out so the fast kernel's ISA and path
     // can be chosen.
     let (mut per_wave, mut fused) = (kernel(&waves, Path::PerWave), kernel(&waves, Path::Fused));
     let mut stencil2 = StencilNormals::with_isa(isa);
     let mut m3 = Mesh::new(grid);
-    let r = compare(
+    let [ref_rates, per_wave_rates, fused_rates]: [Vec<f64>; 3] = compare(
         verts,
         rounds,
         &mut [
@@ -285,13 +350,17 @@ fn main() {
                 stencil2.compute(&mut m3)
             },
         ],
-    );
-    results.push((
-        "full step, heights + neighbors".into(),
-        r[0],
-        Some(r[1]),
-        Some(r[2]),
-    ));
+    )
+    .try_into()
+    .unwrap();
+    results.push(Row {
+        case: "full step, heights + neighbors".into(),
+        columns: [
+            Some(("reference", ref_rates)),
+            Some(("per-wave", per_wave_rates)),
+            Some(("fused", fused_rates)),
+        ],
+    });
     let ghz_end = clock_ghz();
     let ghz = (ghz_start + ghz_end) / 2.0;
 
@@ -309,8 +378,14 @@ fn main() {
         "|------------------------------------|--------------:|--------------:|--------------:\
          |---------:|---------:|---------:|"
     );
-    for (name, r, p, f) in &results {
-        row(name, ghz, *r, *p, *f);
+    for row in &results {
+        print_row(row, ghz);
+    }
+    if let Some(dir) = &out {
+        bench_run(&results, n, rounds, isa, started)
+            .write(dir)
+            .unwrap_or_else(|e| panic!("writing {}: {e}", dir.display()));
+        println!("\nbench run: {}", dir.join("bench.json").display());
     }
 
     if args.get(3).is_some_and(|a| a == "timing") {

@@ -63,6 +63,8 @@ pub enum Command {
     /// Regenerates (or checks) the measured numbers in README.md and docs/: every block
     /// between `<!-- ob:... -->` and `<!-- /ob -->` is rewritten from the committed run it names.
     Docs(DocsArgs),
+    /// Collect the estimates a `cargo bench` run just wrote into results/bench-<name>-<UTC>/.
+    BenchRecord(BenchRecordArgs),
 }
 
 /// One flag per dimension of a cell (`--size`, `--mode`, `--sync`, ...), each taking a value or
@@ -555,6 +557,28 @@ pub struct DocsArgs {
     /// The checkout's top folder: README.md, docs/ and the runs are read under it.
     #[arg(long, default_value = ".")]
     pub root: PathBuf,
+}
+
+/// Flags of `oceanbench bench-record`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "scripts/bench-run.sh touches the stamp, runs cargo bench and then this.\n\nExamples:\n  oceanbench bench-record fft --since /tmp/stamp --out results/bench-fft-20261127T120000Z -- scripts/bench-run.sh fft fft-512"
+)]
+pub struct BenchRecordArgs {
+    /// The bench's name (its `cargo bench --bench` target), in the folder name and bench.json.
+    pub name: String,
+    /// Criterion's output folder.
+    #[arg(long, default_value = "target/criterion")]
+    pub criterion_dir: PathBuf,
+    /// A file touched before `cargo bench` started: only estimates written since count.
+    #[arg(long, value_name = "STAMP_FILE")]
+    pub since: PathBuf,
+    /// The run's folder (default: results/bench-<name>-<UTC timestamp>).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// How the run was made, recorded in bench.json (default: this command line).
+    #[arg(last = true, value_name = "COMMAND")]
+    pub command: Vec<String>,
 }
 
 /// Flags of `oceanbench mesh`.

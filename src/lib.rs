@@ -3,6 +3,7 @@
 
 pub mod affinity;
 pub mod balance;
+pub mod bench_run;
 pub mod calibrate;
 pub mod camera;
 pub mod cell;

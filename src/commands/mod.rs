@@ -1,6 +1,7 @@
 //! The commands, one file each; `execute` dispatches a parsed command line to them.
 
 mod balance;
+mod bench_record;
 mod chart;
 mod compare;
 mod docs;
@@ -66,6 +67,7 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
         Command::Placement(args) => placement::placement(args),
         Command::Findings(args) => findings::findings(args),
         Command::Docs(args) => docs::docs(args),
+        Command::BenchRecord(args) => bench_record::bench_record(args),
     }
 }
 

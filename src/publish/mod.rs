@@ -173,7 +173,10 @@ impl Context {
                 })?;
                 let digits = digits(block, if fig.value >= 100.0 { 0 } else { 2 })?;
                 let marks = if fig.caveats.is_empty() { "" } else { "*" };
-                Ok(qualified(format!("{:.digits$}{marks}", fig.value), &[unknown]))
+                Ok(qualified(
+                    format!("{:.digits$}{marks}", fig.value),
+                    &[unknown],
+                ))
             }
             "source" => Ok(source(results, &link)),
             "levels" => Ok(markdown::levels(results)),
