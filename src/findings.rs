@@ -473,9 +473,10 @@ fn flat(results: &Results, slice: &Slice) -> Vec<Finding> {
                 &format!("DP w{}", row[1].cell.key.workload),
             ));
         } else if let Some(next) = row.get(kept) {
+            let moves = if next.median < base { "falls" } else { "rises" };
             let _ = write!(
                 sentence,
-                ", then falls to {:.0} at {} ({:.2} × )",
+                ", then {moves} to {:.0} at {} ({:.2} × )",
                 next.median,
                 level(results, next.cell),
                 next.median / base

@@ -59,6 +59,10 @@ pub fn parse(text: &str) -> Result<Vec<Block>, ParseError> {
     let mut at = 0;
     while let Some(found) = text[at..].find(OPEN) {
         let start = at + found;
+        if in_code(text, start) {
+            at = start + OPEN.len();
+            continue;
+        }
         let line = line_of(text, start);
         let head_start = start + OPEN.len();
         let head_end = text[head_start..]
@@ -93,13 +97,25 @@ pub fn parse(text: &str) -> Result<Vec<Block>, ParseError> {
         });
         at = close + CLOSE.len();
     }
-    if let Some(stray) = text[at..].find(CLOSE) {
-        return Err(ParseError {
-            line: line_of(text, at + stray),
-            message: format!("`{CLOSE}` closes no block"),
-        });
+    let mut rest = at;
+    while let Some(stray) = text[rest..].find(CLOSE) {
+        let pos = rest + stray;
+        if !in_code(text, pos) {
+            return Err(ParseError {
+                line: line_of(text, pos),
+                message: format!("`{CLOSE}` closes no block"),
+            });
+        }
+        rest = pos + CLOSE.len();
     }
     Ok(out)
+}
+
+/// Whether `at` lies inside inline code (an odd number of backticks before it on its line),
+/// where docs show a block's syntax without making one.
+fn in_code(text: &str, at: usize) -> bool {
+    let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+    text[line_start..at].matches('`').count() % 2 == 1
 }
 
 /// `KIND key=value key="a b"` into its kind and attributes.
@@ -192,6 +208,12 @@ mod tests {
             out,
             "a\nDP is <!-- ob:value run=r cell=\"128 w2 dp\" -->830<!-- /ob --> FPS.\n<!-- ob:table run=r -->\n| y |\n<!-- /ob -->\n"
         );
+    }
+
+    #[test]
+    fn a_block_shown_in_inline_code_is_no_block() {
+        let text = "Write `<!-- ob:value run=R cell=C -->1<!-- /ob -->` to cite one.\n";
+        assert_eq!(parse(text).unwrap(), Vec::new());
     }
 
     #[test]

@@ -11,8 +11,10 @@
 //! - `figure run=R finding=ID name=NAME [slice=..] [size=N] [digits=N]`: a finding's number;
 //! - `source run=R`: where a run was made (machine, commit and tree, round trip, placement);
 //! - `levels run=R`: its workload levels;
-//! - `const name=NAME`: a constant of the code.
+//! - `const name=NAME`: a constant of the code;
+//! - `bench run=bench-... [id=ID [over=ID]] [ids=PREFIX,...]`: a benchmark run's estimates.
 
+mod bench;
 pub mod blocks;
 pub mod consts;
 
@@ -91,9 +93,10 @@ impl Context {
             "figure" => &["run", "finding", "name", "slice", "size", "digits"],
             "source" | "levels" => &["run"],
             "const" => &["name"],
+            "bench" => &["run", "id", "over", "ids"],
             other => {
                 return Err(format!(
-                    "unknown block kind `{other}` (allowed: table, findings, value, figure, source, levels, const)"
+                    "unknown block kind `{other}` (allowed: table, findings, value, figure, source, levels, const, bench)"
                 ))
             }
         };
@@ -113,6 +116,9 @@ impl Context {
             return consts::value(name);
         }
         let link = self.link(file, block)?;
+        if block.kind == "bench" {
+            return bench::render(&self.root, block, &link);
+        }
         let multiline = block.multiline;
         let (_, results, found) = self.run(block)?;
         let unknown = tree_unknown(results);
