@@ -525,10 +525,24 @@ fn balance(results: &Results, slice: &Slice) -> Vec<Finding> {
                         cell: Some(e.key.label()),
                         caveats: Vec::new(),
                     });
+                    // S as the balance compares it: timed in the probes of the headline's
+                    // placement, where the search recorded one (schema 6).
+                    let step = e
+                        .placements
+                        .iter()
+                        .find(|p| Some(p.placement) == e.placement)
+                        .and_then(|p| p.step_us)
+                        .unwrap_or(e.step_us);
+                    figures.push(Figure {
+                        name: "step_us".into(),
+                        value: step,
+                        interval: None,
+                        cell: Some(e.key.label()),
+                        caveats: Vec::new(),
+                    });
                     let mut s = format!(
-                        "On {n}×{n}, the two threads' work is equal at {us:.0} µs of workload ({:.2} × the {:.0} µs step){placement}",
-                        us / e.step_us,
-                        e.step_us
+                        "On {n}×{n}, the two threads' work is equal at {us:.0} µs of workload ({:.2} × the {step:.0} µs step){placement}",
+                        us / step,
                     );
                     if let Some(r) = dp {
                         let interval = e.dp_over_serial_low.zip(e.dp_over_serial_high).map(|(l, h)| [l, h]);
