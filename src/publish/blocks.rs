@@ -120,9 +120,12 @@ fn in_code(text: &str, at: usize) -> bool {
 
 /// `KIND key=value key="a b"` into its kind and attributes.
 fn parse_head(head: &str) -> Result<(String, Vec<(String, String)>), String> {
-    let head = head.trim();
-    let (kind, mut rest) = head.split_once(char::is_whitespace).unwrap_or((head, ""));
-    if kind.is_empty() {
+    let (kind, mut rest) = head
+        .trim_end()
+        .split_once(char::is_whitespace)
+        .unwrap_or((head.trim_end(), ""));
+    let named = |c: char| c.is_ascii_alphanumeric() || c == '-' || c == '_';
+    if kind.is_empty() || !kind.chars().all(named) {
         return Err("a block names no kind (`<!-- ob:KIND ... -->`)".into());
     }
     let mut attrs = Vec::new();
