@@ -605,8 +605,23 @@ fn marks(results: &Results, slice: &Slice) -> Option<Finding> {
     if n == 0 {
         return None;
     }
+    // Only the marks the run has are named, so a run without § says nothing of it.
+    let named: Vec<String> = [
+        (noisy, "† (noisy)"),
+        (unexplained, "‡ (unexplained slow trial)"),
+        (mixed, "§ (mixed placements)"),
+    ]
+    .iter()
+    .filter(|(k, _)| *k > 0)
+    .map(|(k, m)| format!("{k} {m}"))
+    .collect();
+    let marked = if named.is_empty() {
+        "none marked".to_string()
+    } else {
+        named.join(", ")
+    };
     let mut sentence = format!(
-        "Marks over the {n} cells: {noisy} † (noisy), {unexplained} ‡ (unexplained slow trial), {mixed} § (mixed placements); {spread} with trials spread over {SPREAD_PERCENT:.0} %"
+        "Marks over the {n} cells: {marked}; {spread} with trials spread over {SPREAD_PERCENT:.0} %"
     );
     if bare > 0 {
         let _ = write!(sentence, "; {bare} have no per-trial records");
