@@ -32,7 +32,7 @@ fn checkout(readme: &str) -> tempfile::TempDir {
     root
 }
 
-const README: &str = "# x\n\nSerial runs <!-- ob:value run=quick-fixture cell=\"16 w0 serial neighbors reference\" -->0<!-- /ob --> FPS.\n\n<!-- ob:table run=quick-fixture slice=\"sync=atomic,threading=pool\" -->\n<!-- /ob -->\n";
+const README: &str = "# x\n\nSerial runs <!-- ob:value run=quick-fixture cell=\"16 w0 serial neighbors reference\" -->0<!-- /ob --> FPS, <!-- ob:value run=quick-fixture cell=\"16 w0 serial neighbors reference\" over=\"16 w0 serial neighbors reference\" -->0<!-- /ob --> × itself.\n\n<!-- ob:table run=quick-fixture slice=\"sync=atomic,threading=pool\" -->\n<!-- /ob -->\n";
 
 #[test]
 fn a_changed_value_in_a_run_fails_the_check() {
@@ -51,6 +51,10 @@ fn a_changed_value_in_a_run_fails_the_check() {
     assert!(
         written.contains("tree unknown"),
         "an old run says so: {written}"
+    );
+    assert!(
+        written.contains("-->1.00 (tree unknown"),
+        "a cell over itself: {written}"
     );
     assert!(oceanbench_in(dir, &["docs", "--check"]).status.success());
 
@@ -100,6 +104,10 @@ fn bad_blocks_are_refused_with_their_file_and_line() {
             "matches 0 tables",
         ),
         ("<!-- ob:const name=nothing -->1<!-- /ob -->", "const: unknown name"),
+        (
+            "<!-- ob:value run=quick-fixture cell=\"16 w0 serial neighbors reference\" over=\"a;b\" -->1<!-- /ob -->",
+            "over= names 2 cell(s) and cell= 1",
+        ),
     ];
     for (block, needle) in cases {
         let text = format!("# x\n\n{block}\n");

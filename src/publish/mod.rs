@@ -89,7 +89,7 @@ impl Context {
         let known: &[&str] = match block.kind.as_str() {
             "table" => &["run", "slice", "findings"],
             "findings" => &["run", "id", "slice", "size"],
-            "value" => &["run", "cell", "stat", "digits"],
+            "value" => &["run", "cell", "stat", "digits", "over"],
             "figure" => &["run", "finding", "name", "slice", "size", "digits"],
             "source" | "levels" => &["run"],
             "const" => &["name"],
@@ -377,15 +377,28 @@ fn slice_text(s: &Slice) -> String {
 /// `wait_cpu_ms`, `wait_cpu_us` (every thread), `main_wait_cpu_us`, `helper_wait_cpu_us`,
 /// `repeated_percent` (frames that re-showed a mesh, `latest`), or
 /// a ratio of median trials against its twin: `dp_over_up`, `dp_over_serial`, `up_over_serial`.
-/// The cells' marks (†, ‡, §) follow it.
+/// With `over="C;D"`, each number is divided by the same stat of the matching cell. The
+/// cells' marks (†, ‡, §) follow it.
 fn value(results: &Results, block: &Block) -> Result<String, BlockError> {
     let labels = block.attr("cell").ok_or("`value` needs cell=LABEL")?;
     let stat = block.attr("stat").unwrap_or("fps");
     let mut numbers = Vec::new();
     let mut involved: Vec<&Cell> = Vec::new();
     let mut default_digits = 0;
-    for label in labels.split(';').map(str::trim) {
-        let cell = results
+    // `over="C;D"`: each cell's number divided by the same stat of the matching cell, for
+    // comparisons across a dimension no twin covers (a grid, a kind).
+    let over: Vec<&str> = block
+        .attr("over")
+        .map_or(Vec::new(), |o| o.split(';').map(str::trim).collect());
+    let count = labels.split(';').count();
+    if !over.is_empty() && over.len() != count {
+        return Err(format!(
+            "over= names {} cell(s) and cell= {count}: one each",
+            over.len()
+        ));
+    }
+    let find = |label: &str| -> Result<&Cell, BlockError> {
+        results
             .cells
             .iter()
             .find(|c| c.key.label() == label)
@@ -398,8 +411,19 @@ fn value(results: &Results, block: &Block) -> Result<String, BlockError> {
                         .map(|c| c.key.label())
                         .unwrap_or_default()
                 )
-            })?;
-        let (number, digits, others) = stat_of(results, cell, stat)?;
+            })
+    };
+    for (i, label) in labels.split(';').map(str::trim).enumerate() {
+        let cell = find(label)?;
+        let (mut number, mut digits, others) = stat_of(results, cell, stat)?;
+        if let Some(base_label) = over.get(i) {
+            let base = find(base_label)?;
+            let (base_number, _, base_others) = stat_of(results, base, stat)?;
+            number /= base_number;
+            digits = 2;
+            involved.push(base);
+            involved.extend(base_others);
+        }
         numbers.push(number);
         default_digits = digits;
         involved.push(cell);
