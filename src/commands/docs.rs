@@ -10,16 +10,39 @@ pub(super) fn docs(args: DocsArgs) -> Result<(), CliError> {
     let files = publish::files(&args.root)
         .map_err(|e| InputError(format!("--root {}: {e}", args.root.display())))?;
     if args.numbers {
-        let mut count = 0;
+        let (mut labels, mut unchecked) = (0, 0);
         for file in &files {
             let text = std::fs::read_to_string(file)
                 .map_err(|e| InputError(format!("{}: {e}", file.display())))?;
-            for (line, number, context) in publish::loose_numbers(&text) {
-                println!("{}:{line}: {number}: {context}", file.display());
-                count += 1;
+            for n in publish::loose::numbers(&text) {
+                let what = match &n.label {
+                    Some(label) => {
+                        labels += 1;
+                        label.describe()
+                    }
+                    None => {
+                        unchecked += 1;
+                        "UNCHECKED".into()
+                    }
+                };
+                println!(
+                    "{}:{}: {} ({what}): {}",
+                    file.display(),
+                    n.line,
+                    n.number,
+                    n.context
+                );
             }
         }
-        eprintln!("{count} number(s) outside generated blocks");
+        eprintln!(
+            "{} number(s) outside generated blocks: {labels} label(s) checked against the code, {unchecked} unchecked",
+            labels + unchecked
+        );
+        if unchecked > 0 {
+            return Err(CliError::Run(anyhow::anyhow!(
+                "{unchecked} number(s) outside generated blocks that nothing checks"
+            )));
+        }
         return Ok(());
     }
     let mut ctx = Context::new(&args.root);

@@ -1,8 +1,10 @@
 //! Constants of the code that the docs quote, by name: a `const` block renders one, so a doc
 //! that quotes a default or a threshold is checked against the code like any measured number.
 
+use super::blocks::Block;
 use crate::cell::Dim;
 use crate::config::SweepConfig;
+use std::path::Path;
 
 /// Every constant a doc may quote: its name, what it is, and its value as docs write it.
 pub fn all() -> Vec<(&'static str, &'static str, String)> {
@@ -95,4 +97,33 @@ pub fn value(name: &str) -> Result<String, String> {
                     .join(", ")
             )
         })
+}
+
+/// The value at `key` (a dotted path; list indexes as numbers) of the committed config named by
+/// a `config` block's `file`, as docs write it: a list as `a, b, c`, a string without quotes.
+pub fn config_value(root: &Path, block: &Block) -> Result<String, String> {
+    let file = block
+        .attr("file")
+        .ok_or("`config` needs file=configs/NAME.json")?;
+    let key = block.attr("key").ok_or("`config` needs key=PATH")?;
+    let text = std::fs::read_to_string(root.join(file))
+        .map_err(|e| format!("config file `{file}`: {e}"))?;
+    let json: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| format!("config file `{file}`: {e}"))?;
+    let mut at = &json;
+    for part in key.split('.') {
+        let next = match part.parse::<usize>() {
+            Ok(i) => at.get(i),
+            Err(_) => at.get(part),
+        };
+        at = next.ok_or_else(|| format!("config file `{file}` has no key `{key}`"))?;
+    }
+    let show = |v: &serde_json::Value| match v {
+        serde_json::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    };
+    Ok(match at {
+        serde_json::Value::Array(items) => items.iter().map(show).collect::<Vec<_>>().join(", "),
+        other => show(other),
+    })
 }

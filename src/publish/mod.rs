@@ -12,11 +12,14 @@
 //! - `source run=R`: where a run was made (machine, commit and tree, round trip, placement);
 //! - `levels run=R`: its workload levels;
 //! - `const name=NAME`: a constant of the code;
+//! - `config file=configs/F.json key=K`: a value of a committed config (`key` a dotted path,
+//!   with indexes for lists; a list renders as `a, b, c`);
 //! - `bench run=bench-... [id=ID [over=ID]] [ids=PREFIX,...]`: a benchmark run's estimates.
 
 mod bench;
 pub mod blocks;
 pub mod consts;
+pub mod loose;
 
 use crate::cell::Dim;
 use crate::findings::{self, Finding, Findings, Slice};
@@ -93,10 +96,11 @@ impl Context {
             "figure" => &["run", "finding", "name", "slice", "size", "digits"],
             "source" | "levels" => &["run"],
             "const" => &["name"],
+            "config" => &["file", "key"],
             "bench" => &["run", "id", "over", "ids"],
             other => {
                 return Err(format!(
-                    "unknown block kind `{other}` (allowed: table, findings, value, figure, source, levels, const, bench)"
+                    "unknown block kind `{other}` (allowed: table, findings, value, figure, source, levels, const, config, bench)"
                 ))
             }
         };
@@ -114,6 +118,9 @@ impl Context {
         if block.kind == "const" {
             let name = block.attr("name").ok_or("`const` needs name=NAME")?;
             return consts::value(name);
+        }
+        if block.kind == "config" {
+            return consts::config_value(&self.root, block);
         }
         let link = self.link(file, block)?;
         if block.kind == "bench" {
@@ -560,98 +567,4 @@ pub fn regenerate(ctx: &mut Context, file: &Path) -> Result<FileOutcome, String>
         Ok::<_, String>(body)
     })?;
     Ok(FileOutcome { text: new, stale })
-}
-
-/// Each number outside generated blocks, fenced code and inline code, with its line:
-/// `(line, number, the line's text)`.
-pub fn loose_numbers(text: &str) -> Vec<(usize, String, String)> {
-    let mut masked = text.to_string();
-    if let Ok(blocks) = blocks::parse(text) {
-        // Blank each block's text, keeping its newlines so line numbers hold.
-        let mut bytes = masked.into_bytes();
-        for b in &blocks {
-            for i in b.body.clone() {
-                if bytes[i] != b'\n' {
-                    bytes[i] = b' ';
-                }
-            }
-        }
-        masked = String::from_utf8_lossy(&bytes).into_owned();
-    }
-    let mut out = Vec::new();
-    let mut fenced = false;
-    for (i, (line, original)) in masked.lines().zip(text.lines()).enumerate() {
-        if line.trim_start().starts_with("```") {
-            fenced = !fenced;
-            continue;
-        }
-        if fenced {
-            continue;
-        }
-        let prose = strip_code_and_links(line);
-        for number in numbers_in(&prose) {
-            out.push((i + 1, number, original.trim().to_string()));
-        }
-    }
-    out
-}
-
-/// The line without inline code, HTML comments, link targets and the opening comment of blocks.
-fn strip_code_and_links(line: &str) -> String {
-    let mut out = String::new();
-    let mut rest = line;
-    while !rest.is_empty() {
-        if let Some(r) = rest.strip_prefix('`') {
-            match r.find('`') {
-                Some(end) => rest = &r[end + 1..],
-                None => rest = "",
-            }
-        } else if let Some(r) = rest.strip_prefix("<!--") {
-            rest = r.find("-->").map_or("", |end| &r[end + 3..]);
-        } else if let Some(r) = rest.strip_prefix("](") {
-            out.push(' ');
-            rest = r.find(')').map_or("", |end| &r[end + 1..]);
-        } else {
-            let c = rest.chars().next().expect("not empty");
-            out.push(c);
-            rest = &rest[c.len_utf8()..];
-        }
-    }
-    out
-}
-
-/// The numbers of a prose line, as written: digits with their decimal point, thousands
-/// separators and a leading sign or trailing percent sign.
-fn numbers_in(text: &str) -> Vec<String> {
-    let chars: Vec<char> = text.chars().collect();
-    let mut out = Vec::new();
-    let mut i = 0;
-    while i < chars.len() {
-        let starts = chars[i].is_ascii_digit()
-            && (i == 0
-                || !(chars[i - 1].is_alphanumeric() || chars[i - 1] == '_' || chars[i - 1] == '-'));
-        if !starts {
-            i += 1;
-            continue;
-        }
-        let mut j = i;
-        while j < chars.len()
-            && (chars[j].is_ascii_digit()
-                || ((chars[j] == '.' || chars[j] == ',')
-                    && chars.get(j + 1).is_some_and(|c| c.is_ascii_digit())))
-        {
-            j += 1;
-        }
-        // A word with digits in it (x86_64, 2D, f32) is a name, not a number.
-        if chars.get(j).is_some_and(|c| c.is_alphabetic() || *c == '_') {
-            while j < chars.len() && (chars[j].is_alphanumeric() || chars[j] == '_') {
-                j += 1;
-            }
-            i = j;
-            continue;
-        }
-        out.push(chars[i..j].iter().collect());
-        i = j;
-    }
-    out
 }
