@@ -12,6 +12,7 @@
 //! - `source run=R`: where a run was made (machine, commit and tree, round trip, placement);
 //! - `levels run=R`: its workload levels;
 //! - `const name=NAME`: a constant of the code;
+//! - `grid run=R rows=".." cols=".."`: a table of one stat of many cells ([`grid`]);
 //! - `config file=configs/F.json key=K`: a value of a committed config (`key` a dotted path,
 //!   with indexes for lists; a list renders as `a, b, c`);
 //! - `bench run=bench-... [id=ID [over=ID]] [ids=PREFIX,...]`: a benchmark run's estimates.
@@ -19,6 +20,7 @@
 mod bench;
 pub mod blocks;
 pub mod consts;
+mod grid;
 pub mod loose;
 
 use crate::cell::Dim;
@@ -93,6 +95,7 @@ impl Context {
             "table" => &["run", "slice", "findings"],
             "findings" => &["run", "id", "slice", "size"],
             "value" => &["run", "cell", "stat", "digits", "over"],
+            "grid" => &["run", "head", "rows", "cols", "gaps"],
             "figure" => &["run", "finding", "name", "slice", "size", "digits"],
             "source" | "levels" => &["run"],
             "const" => &["name"],
@@ -100,7 +103,7 @@ impl Context {
             "bench" => &["run", "id", "over", "ids"],
             other => {
                 return Err(format!(
-                    "unknown block kind `{other}` (allowed: table, findings, value, figure, source, levels, const, config, bench)"
+                    "unknown block kind `{other}` (allowed: table, findings, value, grid, figure, source, levels, const, config, bench)"
                 ))
             }
         };
@@ -164,6 +167,7 @@ impl Context {
                 }
             }
             "value" => value(results, block),
+            "grid" => grid::render(results, block, &link),
             "figure" => {
                 let chosen = choose(found, block)?;
                 let name = block.attr("name").ok_or("`figure` needs name=NAME")?;
@@ -387,6 +391,15 @@ fn slice_text(s: &Slice) -> String {
 /// With `over="C;D"`, each number is divided by the same stat of the matching cell. The
 /// cells' marks (†, ‡, §) follow it.
 fn value(results: &Results, block: &Block) -> Result<String, BlockError> {
+    let (text, bare) = value_text(results, block)?;
+    Ok(qualified(
+        text,
+        &[tree_unknown(results), bare.then_some("no trial records")],
+    ))
+}
+
+/// A `value` block's number with its marks, and whether a cell it read has no trial records.
+fn value_text(results: &Results, block: &Block) -> Result<(String, bool), BlockError> {
     let labels = block.attr("cell").ok_or("`value` needs cell=LABEL")?;
     let stat = block.attr("stat").unwrap_or("fps");
     let mut numbers = Vec::new();
@@ -453,10 +466,7 @@ fn value(results: &Results, block: &Block) -> Result<String, BlockError> {
         }
     }
     let bare = involved.iter().any(|c| c.trials.is_empty());
-    Ok(qualified(
-        format!("{text}{marks}"),
-        &[tree_unknown(results), bare.then_some("no trial records")],
-    ))
+    Ok((format!("{text}{marks}"), bare))
 }
 
 /// A number with what qualifies it in one parenthesis: `831† (tree unknown; no trial records)`.
