@@ -12,6 +12,8 @@
 //! - `source run=R`: where a run was made (machine, commit and tree, round trip, placement);
 //! - `levels run=R`: its workload levels;
 //! - `const name=NAME`: a constant of the code;
+//! - `ref name=NAME`: a number quoted from outside the project, kept with its source in
+//!   `docs/references.json` ([`refs`]);
 //! - `grid run=R rows=".." cols=".."`: a table of one stat of many cells ([`grid`]);
 //! - `config file=configs/F.json key=K`: a value of a committed config (`key` a dotted path,
 //!   with indexes for lists; a list renders as `a, b, c`);
@@ -22,6 +24,7 @@ pub mod blocks;
 pub mod consts;
 mod grid;
 pub mod loose;
+pub mod refs;
 
 use crate::cell::Dim;
 use crate::findings::{self, Finding, Findings, Slice};
@@ -100,10 +103,11 @@ impl Context {
             "source" | "levels" => &["run"],
             "const" => &["name"],
             "config" => &["file", "key"],
+            "ref" => &["name"],
             "bench" => &["run", "id", "over", "ids"],
             other => {
                 return Err(format!(
-                    "unknown block kind `{other}` (allowed: table, findings, value, grid, figure, source, levels, const, config, bench)"
+                    "unknown block kind `{other}` (allowed: table, findings, value, grid, figure, source, levels, const, config, ref, bench)"
                 ))
             }
         };
@@ -121,6 +125,9 @@ impl Context {
         if block.kind == "const" {
             let name = block.attr("name").ok_or("`const` needs name=NAME")?;
             return consts::value(name);
+        }
+        if block.kind == "ref" {
+            return refs::render(&self.root, block);
         }
         if block.kind == "config" {
             return consts::config_value(&self.root, block);
