@@ -379,6 +379,10 @@ pub struct ReportArgs {
     /// The page to write (default: report.html in the results directory).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Also rewrite the run's results.md and findings.json with this build (results.json is
+    /// left as it is): brings an older run's write-ups up to date.
+    #[arg(long)]
+    pub refresh: bool,
     /// With --baseline: a change counts only when its whole 95% interval clears this many
     /// percent.
     #[arg(long, default_value_t = compare::DEFAULT_THRESHOLD_PCT)]

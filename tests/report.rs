@@ -468,3 +468,26 @@ fn slow_trials_and_every_noisy_cell_are_listed() {
     assert_eq!(marked, 1);
     assert_eq!(doc.select(&sel("#noisy-cells")).count(), 0);
 }
+
+#[test]
+fn refresh_rewrites_the_write_ups_from_results_json_and_leaves_it_as_it_was() {
+    let (_dir, run) = folder(&fixture());
+    let before = std::fs::read(run.join("results.json")).unwrap();
+    std::fs::write(run.join("results.md"), "stale\n").unwrap();
+    let out = oceanbench(&["report", run.to_str().unwrap(), "--refresh"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(std::fs::read(run.join("results.json")).unwrap(), before);
+    let md = std::fs::read_to_string(run.join("results.md")).unwrap();
+    assert!(
+        md.starts_with("# oceanbench results\n\n## Findings"),
+        "{md}"
+    );
+    let findings: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.join("findings.json")).unwrap()).unwrap();
+    assert!(!findings["findings"].as_array().unwrap().is_empty());
+    assert!(run.join("report.html").is_file());
+}

@@ -33,6 +33,9 @@ pub(super) fn report(args: ReportArgs) -> Result<(), CliError> {
         .out
         .unwrap_or_else(|| default_path(&results_dir(&args.results)));
     write(&results, &args.results, baseline.as_ref(), &out)?;
+    if args.refresh {
+        refresh(&results, &results_dir(&args.results))?;
+    }
     println!("report: {}", out.display());
     Ok(())
 }
@@ -54,4 +57,21 @@ pub(super) fn write(
 /// Where `sweep` writes its page.
 pub(super) fn default_path(dir: &Path) -> PathBuf {
     dir.join("report.html")
+}
+
+/// Rewrites the run's results.md and findings.json from `results` (never results.json).
+fn refresh(results: &Results, dir: &Path) -> Result<(), CliError> {
+    let findings = crate::findings::of(results)
+        .to_json()
+        .map_err(anyhow::Error::from)?;
+    for (name, text) in [
+        ("results.md", crate::report::markdown::to_string(results)),
+        ("findings.json", findings),
+    ] {
+        let path = dir.join(name);
+        json::write_atomic(&path, text.as_bytes())
+            .map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display()))?;
+        println!("refreshed: {}", path.display());
+    }
+    Ok(())
 }
