@@ -9,6 +9,8 @@ use std::path::Path;
 /// Every constant a doc may quote: its name, what it is, and its value as docs write it.
 pub fn all() -> Vec<(&'static str, &'static str, String)> {
     let config = SweepConfig::default();
+    let fft_defaults = crate::ocean::phillips::FftParams::default();
+    let balance_defaults = crate::balance::record::BalanceSettings::default();
     let list = |dim: Dim| {
         config
             .axes
@@ -79,7 +81,140 @@ pub fn all() -> Vec<(&'static str, &'static str, String)> {
             "the results.json layout this build writes",
             crate::results::SCHEMA_VERSION.to_string(),
         ),
+        // fft (docs/fft-ocean.md, docs/balance.md):
+        (
+            "fft_strip_columns",
+            "columns per strip of the FFT ocean's row pass",
+            crate::ocean::fft::transform::STRIP.to_string(),
+        ),
+        (
+            "fft_default_patch_metres",
+            "the FFT ocean's default patch side L, in metres",
+            format!("{}", fft_defaults.patch_metres),
+        ),
+        (
+            "fft_default_wind_speed",
+            "the FFT ocean's default wind speed V, in m/s",
+            format!("{}", fft_defaults.wind_speed),
+        ),
+        (
+            "fft_default_wind_direction_degrees",
+            "the FFT ocean's default wind direction, in degrees from +x",
+            format!("{}", fft_defaults.wind_direction_degrees),
+        ),
+        (
+            "fft_default_amplitude",
+            "the FFT ocean's default Phillips constant A",
+            format!("{:e}", fft_defaults.amplitude),
+        ),
+        (
+            "fft_default_cutoff_metres",
+            "the FFT ocean's default cutoff l, in metres",
+            format!("{}", fft_defaults.cutoff_metres),
+        ),
+        (
+            "fft_default_choppiness",
+            "the FFT ocean's default choppiness λ",
+            format!("{}", fft_defaults.choppiness),
+        ),
+        (
+            "fft_default_gravity",
+            "the FFT ocean's default g, in m/s²",
+            format!("{}", fft_defaults.gravity),
+        ),
+        (
+            "fft_default_seed",
+            "the FFT ocean's default seed",
+            fft_defaults.seed.to_string(),
+        ),
+        (
+            "fft_allowed_patch_metres",
+            "the values of patch_metres a parameters file may give",
+            fft_allowed("patch_metres"),
+        ),
+        (
+            "fft_allowed_wind_speed",
+            "the values of wind_speed a parameters file may give",
+            fft_allowed("wind_speed"),
+        ),
+        (
+            "fft_allowed_wind_direction_degrees",
+            "the values of wind_direction_degrees a parameters file may give",
+            fft_allowed("wind_direction_degrees"),
+        ),
+        (
+            "fft_allowed_amplitude",
+            "the values of amplitude a parameters file may give",
+            fft_allowed("amplitude"),
+        ),
+        (
+            "fft_allowed_cutoff_metres",
+            "the values of cutoff_metres a parameters file may give",
+            fft_allowed("cutoff_metres"),
+        ),
+        (
+            "fft_allowed_choppiness",
+            "the values of choppiness a parameters file may give",
+            fft_allowed("choppiness"),
+        ),
+        (
+            "fft_allowed_gravity",
+            "the values of gravity a parameters file may give",
+            fft_allowed("gravity"),
+        ),
+        (
+            "fft_allowed_depth_metres",
+            "the values of depth_metres a parameters file may give (besides null)",
+            fft_allowed("depth_metres"),
+        ),
+        (
+            "fft_finest_spacing_metres",
+            "the default patch's vertex spacing at the FFT ocean's largest size, in metres",
+            format!(
+                "{:.2}",
+                fft_defaults.patch_metres / crate::ocean::fft::size::MAX as f64
+            ),
+        ),
+        (
+            "balance_default_points",
+            "points of a balance search's curve by default",
+            balance_defaults.points.to_string(),
+        ),
+        (
+            "balance_default_range_from",
+            "where a balance search's range starts by default, as W ÷ S",
+            format!("{}", balance_defaults.range[0]),
+        ),
+        (
+            "balance_default_range_to",
+            "where a balance search's range ends by default, as W ÷ S",
+            format!("{}", balance_defaults.range[1]),
+        ),
+        (
+            "balance_default_trials",
+            "paired trials at every balance probe by default",
+            balance_defaults.trials.to_string(),
+        ),
+        (
+            "balance_default_tolerance_percent",
+            "the bracket width, in % of the step, at which a balance search stops by default",
+            format!("{}", balance_defaults.tolerance_percent),
+        ),
     ]
+}
+
+/// What a parameters file may give for the FFT ocean's number `key`, as the parameters table
+/// writes it, found by asking the parameters' own check: `> 0`, `≥ 0` or `finite`.
+fn fft_allowed(key: &str) -> String {
+    let accepts = |v: f64| {
+        crate::ocean::phillips::FftParams::from_json(&format!("{{\"{key}\": {v}}}")).is_ok()
+    };
+    match (accepts(-1.0), accepts(0.0), accepts(1.0)) {
+        (true, true, true) => "finite".into(),
+        (false, true, true) => "≥ 0".into(),
+        (false, false, true) => "> 0".into(),
+        other => format!("? ({key}: {other:?})"),
+    }
 }
 
 /// The constant `name` as docs write it.
