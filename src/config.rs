@@ -44,6 +44,9 @@ pub struct Level {
     pub units: BTreeMap<String, f64>,
 }
 
+/// Most times a noisy trial may be re-run (`retry_noisy`).
+pub const MAX_RETRY_NOISY: u32 = 10;
+
 /// Largest amount a level may give in a kind's unit: a whole number an f64 holds exactly.
 const MAX_AMOUNT: f64 = 9.0e15;
 
@@ -534,9 +537,9 @@ impl SweepConfig {
             )));
         }
         crate::slow_trials::check_threshold(self.slow_trial_percent)?;
-        if self.retry_noisy > 10 {
+        if self.retry_noisy > MAX_RETRY_NOISY {
             return Err(InputError(format!(
-                "retry_noisy: must be 0 to 10, got {}",
+                "retry_noisy: must be 0 to {MAX_RETRY_NOISY}, got {}",
                 self.retry_noisy
             )));
         }

@@ -260,8 +260,8 @@ pub fn median_ratio_interval(num: &[f64], den: &[f64], seed: u64) -> [f64; 2] {
         .collect();
     let sorted = stats::sorted(&ratios);
     [
-        stats::quantile(&sorted, 0.025),
-        stats::quantile(&sorted, 0.975),
+        stats::quantile(&sorted, stats::INTERVAL_TAILS.0),
+        stats::quantile(&sorted, stats::INTERVAL_TAILS.1),
     ]
 }
 

@@ -5,7 +5,7 @@
 use clap::error::ErrorKind;
 use clap::Parser;
 use oceanbench::cli::{clap_line, Cli};
-use oceanbench::commands::execute;
+use oceanbench::commands::{execute, EXIT_BAD_INPUT};
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
@@ -19,11 +19,11 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     let _ = err.print();
-                    2
+                    EXIT_BAD_INPUT
                 }
                 _ => {
                     eprintln!("oceanbench: {}", clap_line(&err));
-                    2
+                    EXIT_BAD_INPUT
                 }
             };
             return ExitCode::from(code);

@@ -65,8 +65,14 @@ pub fn bootstrap_change_pct(base: &[f64], new: &[f64], resamples: usize, seed: u
         })
         .collect();
     let changes = sorted(&changes);
-    (quantile(&changes, 0.025), quantile(&changes, 0.975))
+    (
+        quantile(&changes, INTERVAL_TAILS.0),
+        quantile(&changes, INTERVAL_TAILS.1),
+    )
 }
+
+/// The quantiles that bound a 95 % percentile bootstrap interval.
+pub const INTERVAL_TAILS: (f64, f64) = (0.025, 0.975);
 
 /// SplitMix64: a tiny, well-mixed generator, for resampling that must repeat exactly.
 #[derive(Clone, Debug)]

@@ -16,7 +16,7 @@ pub fn flag() -> Arc<AtomicBool> {
         // A handler already set (a test running several commands in one process) keeps its own.
         let _ = ctrlc::set_handler(move || {
             if raised.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
+                std::process::exit(super::EXIT_INTERRUPTED.into());
             }
             eprintln!("\noceanbench: stopping after the current frame (again to quit now)");
         });

@@ -41,13 +41,22 @@ pub enum CliError {
     Interrupted(String),
 }
 
+/// Exit status of a failure while running, or of a regression `compare` found.
+pub const EXIT_FAILED: u8 = 1;
+/// Exit status of bad input: a config, a flag, a results file or a block.
+pub const EXIT_BAD_INPUT: u8 = 2;
+/// Exit status of a command stopped by Ctrl-C or SIGTERM.
+pub const EXIT_INTERRUPTED: u8 = 130;
+
+pub use run::DEFAULT_PARTICLES;
+
 impl CliError {
     /// The process exit status for this error.
     pub fn exit_code(&self) -> u8 {
         match self {
-            CliError::Input(_) => 2,
-            CliError::Run(_) | CliError::Regressed => 1,
-            CliError::Interrupted(_) => 130,
+            CliError::Input(_) => EXIT_BAD_INPUT,
+            CliError::Run(_) | CliError::Regressed => EXIT_FAILED,
+            CliError::Interrupted(_) => EXIT_INTERRUPTED,
         }
     }
 }

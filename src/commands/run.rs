@@ -11,7 +11,7 @@ use crate::sweep::Sweep;
 use crate::workload::{spray, Spray, WorkloadKind};
 
 /// The slides' particle count, `--particles`'s default.
-const DEFAULT_PARTICLES: f64 = 131_072.0;
+pub const DEFAULT_PARTICLES: f64 = 131_072.0;
 
 /// The cell `run` measures when its flags are left out: a mid-size mesh in DP, where the
 /// hand-off matters, rather than the sweep's first values.

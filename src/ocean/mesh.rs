@@ -5,6 +5,9 @@ use crate::input::InputError;
 /// Largest N accepted anywhere (a 4096² mesh is 400 MiB of vertices and normals in two copies).
 pub const MAX_SIZE: usize = 4096;
 
+/// The smallest grid size N (a grid needs two vertices a side).
+pub const MIN_SIZE: usize = 2;
+
 /// An N×N grid of vertices: vertex (i, j) lies at x = j·spacing, y = i·spacing.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Grid {
@@ -17,7 +20,7 @@ pub struct Grid {
 impl Grid {
     /// A grid of `n`×`n` vertices; rejects n < 2, n > MAX_SIZE and non-positive spacing.
     pub fn new(n: usize, spacing: f32) -> Result<Self, InputError> {
-        if !(2..=MAX_SIZE).contains(&n) {
+        if !(MIN_SIZE..=MAX_SIZE).contains(&n) {
             return Err(InputError(format!(
                 "size: must be 2 to {MAX_SIZE}, got {n}"
             )));

@@ -8,6 +8,9 @@ use std::path::Path;
 /// The most waves a set may hold.
 pub const MAX_WAVES: usize = 16;
 
+/// The least steepness exponent a wave takes.
+pub const MIN_STEEPNESS: f32 = 1.0;
+
 /// One sine wave with exponent, as a waves file spells it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -95,10 +98,10 @@ impl Wave {
                 format!("must be > 0, got {}", self.wavelength),
             ));
         }
-        if self.steepness < 1.0 {
+        if self.steepness < MIN_STEEPNESS {
             return Err(bad(
                 "steepness",
-                format!("must be >= 1, got {}", self.steepness),
+                format!("must be >= {MIN_STEEPNESS}, got {}", self.steepness),
             ));
         }
         let [dx, dy] = self.direction;

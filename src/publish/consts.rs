@@ -200,6 +200,317 @@ pub fn all() -> Vec<(&'static str, &'static str, String)> {
             "the bracket width, in % of the step, at which a balance search stops by default",
             format!("{}", balance_defaults.tolerance_percent),
         ),
+        // reference (README, config, methodology, ci, architecture):
+        (
+            "rust_version",
+            "the oldest Rust toolchain that builds the crate (Cargo.toml's rust-version)",
+            env!("CARGO_PKG_RUST_VERSION").to_string(),
+        ),
+        (
+            "exit_failed",
+            "the exit status of a failure while running, or of a regression compare found",
+            crate::commands::EXIT_FAILED.to_string(),
+        ),
+        (
+            "exit_bad_input",
+            "the exit status of bad input",
+            crate::commands::EXIT_BAD_INPUT.to_string(),
+        ),
+        (
+            "exit_interrupted",
+            "the exit status of a command stopped by Ctrl-C or SIGTERM",
+            crate::commands::EXIT_INTERRUPTED.to_string(),
+        ),
+        (
+            "interval_percent",
+            "the confidence of the bootstrap intervals of compare and findings, in percent",
+            format!(
+                "{:.0}",
+                (crate::stats::INTERVAL_TAILS.1 - crate::stats::INTERVAL_TAILS.0) * 100.0
+            ),
+        ),
+        (
+            "level_mismatch_percent",
+            "how far apart two runs' microseconds for one workload level may be and still be the same game work",
+            format!("{}", crate::report::compare::LEVEL_MISMATCH * 100.0),
+        ),
+        (
+            "mesh_min_size",
+            "the smallest mesh size N",
+            crate::ocean::mesh::MIN_SIZE.to_string(),
+        ),
+        (
+            "mesh_max_size",
+            "the largest mesh size N",
+            crate::ocean::mesh::MAX_SIZE.to_string(),
+        ),
+        (
+            "default_workloads",
+            "the default sweep's workload levels",
+            list(Dim::Workload),
+        ),
+        (
+            "default_helpers",
+            "the default sweep's helper counts",
+            list(Dim::Helpers),
+        ),
+        (
+            "default_depth",
+            "the default sweep's run-ahead depths",
+            list(Dim::Depth),
+        ),
+        (
+            "lookup_max_size",
+            "the largest mesh `lookup` normals take (about a second of one core a frame)",
+            crate::ocean::normals::lookup_max_size().to_string(),
+        ),
+        (
+            "fft_min_size",
+            "the smallest size the FFT ocean runs at",
+            crate::ocean::fft::size::MIN.to_string(),
+        ),
+        (
+            "fft_max_size",
+            "the largest size the FFT ocean runs at",
+            crate::ocean::fft::size::MAX.to_string(),
+        ),
+        (
+            "fft_primes",
+            "the only prime factors of an FFT ocean size",
+            and_list(crate::ocean::fft::size::PRIMES.iter().map(|p| p.to_string())),
+        ),
+        (
+            "default_levels",
+            "the default workload levels (S40: the step time of a 40×40 mesh)",
+            config
+                .workload_levels
+                .iter()
+                .map(level_text)
+                .collect::<Vec<_>>()
+                .join(", "),
+        ),
+        (
+            "default_level_1",
+            "default workload level 1, against the step it is placed by",
+            level_against_step(&config, 1),
+        ),
+        (
+            "default_level_2",
+            "default workload level 2, against the step it is placed by",
+            level_against_step(&config, 2),
+        ),
+        (
+            "default_level_3",
+            "default workload level 3, against the step it is placed by",
+            level_against_step(&config, 3),
+        ),
+        (
+            "max_particles",
+            "the most particles a spray level may give",
+            crate::workload::spray::MAX_PARTICLES.to_string(),
+        ),
+        (
+            "default_particles",
+            "the spray pool `run --workload-kind spray` uses without --particles",
+            crate::commands::DEFAULT_PARTICLES.to_string(),
+        ),
+        (
+            "max_fog_volume",
+            "the largest fog volume edge a level may give, in voxels",
+            crate::workload::fog::MAX_VOLUME.to_string(),
+        ),
+        (
+            "spray_threshold_min",
+            "the lowest spray emission threshold (J)",
+            format!("{}", crate::workload::spray::THRESHOLD_RANGE.0).replace('-', "−"),
+        ),
+        (
+            "spray_threshold_max",
+            "the highest spray emission threshold (J)",
+            format!("{}", crate::workload::spray::THRESHOLD_RANGE.1),
+        ),
+        (
+            "spray_max_speed",
+            "the fastest spray launch speed, m/s",
+            format!("{}", crate::workload::spray::MAX_SPEED),
+        ),
+        (
+            "spray_max_lifetime",
+            "the longest spray lifetime, s",
+            format!("{}", crate::workload::spray::MAX_LIFETIME),
+        ),
+        (
+            "spray_max_drag",
+            "the strongest spray drag, per s",
+            format!("{}", crate::workload::spray::MAX_DRAG),
+        ),
+        (
+            "spray_max_emission",
+            "the most particles one frame may emit",
+            crate::workload::spray::MAX_EMISSION.to_string(),
+        ),
+        (
+            "spray_defaults",
+            "the spray's defaults: threshold, speed, lifetime, drag, emission_cap, seed",
+            {
+                let s = crate::workload::SprayParams::default();
+                format!(
+                    "{}, {}, {}, {}, {}, {}",
+                    s.threshold, s.speed, s.lifetime, s.drag, s.emission_cap, s.seed
+                )
+            },
+        ),
+        (
+            "fog_max_octaves",
+            "the most octaves the fog's noise sums",
+            crate::workload::fog::MAX_OCTAVES.to_string(),
+        ),
+        (
+            "fog_stride_min",
+            "the shortest fog stride, voxels per lattice cell",
+            format!("{}", crate::workload::fog::STRIDE.0),
+        ),
+        (
+            "fog_stride_max",
+            "the longest fog stride, voxels per lattice cell",
+            format!("{}", crate::workload::fog::STRIDE.1),
+        ),
+        (
+            "fog_blur_min",
+            "the narrowest fog blur, taps",
+            crate::workload::fog::MIN_BLUR.to_string(),
+        ),
+        (
+            "fog_blur_max",
+            "the widest fog blur, taps",
+            crate::workload::fog::blur::MAX_WIDTH.to_string(),
+        ),
+        (
+            "fog_defaults",
+            "the fog's defaults: octaves, strides, weights (before normalising), density, blur_width, seed",
+            {
+                let f = crate::workload::FogParams::default();
+                let octaves = f.octaves();
+                let join = |v: Vec<String>| v.join("/");
+                format!(
+                    "{}, {}, {}, {}, {}, {}",
+                    f.octaves,
+                    join(octaves.iter().map(|o| o.stride.to_string()).collect()),
+                    join(octaves.iter().map(|o| o.weight.to_string()).collect()),
+                    f.density,
+                    f.blur_width,
+                    f.seed
+                )
+            },
+        ),
+        (
+            "camera_default_aspect",
+            "the default camera's aspect ratio",
+            fraction(f64::from(crate::camera::Camera::default().aspect)),
+        ),
+        (
+            "default_budget",
+            "the default trial budget: trials, warmup_frames, min_frames, min_seconds, max_seconds",
+            format!(
+                "{}, {}, {}, {}, {}",
+                config.trials,
+                config.warmup_frames,
+                config.min_frames,
+                config.min_seconds,
+                config.max_seconds
+            ),
+        ),
+        (
+            "default_spacing",
+            "the default grid spacing",
+            format!("{:.1}", config.spacing),
+        ),
+        (
+            "default_time_step",
+            "simulated seconds per frame by default",
+            fraction(config.time_step),
+        ),
+        (
+            "default_timeout_seconds",
+            "the default hand-off timeout, s",
+            format!("{}", config.timeout_seconds),
+        ),
+        (
+            "default_noise_threshold_percent",
+            "the default share of a trial's wall time preemption or steal may take before it is noisy",
+            format!("{}", config.noise_threshold_percent),
+        ),
+        (
+            "default_retry_noisy",
+            "times a noisy trial is re-run by default",
+            config.retry_noisy.to_string(),
+        ),
+        (
+            "max_retry_noisy",
+            "the most times a noisy trial may be re-run",
+            crate::config::MAX_RETRY_NOISY.to_string(),
+        ),
+        (
+            "max_waves",
+            "the most waves a wave set holds",
+            crate::ocean::waves::MAX_WAVES.to_string(),
+        ),
+        (
+            "min_steepness",
+            "the least steepness exponent of a wave",
+            format!("{}", crate::ocean::waves::MIN_STEEPNESS),
+        ),
+        (
+            "stutter_factor",
+            "a frame longer than this many average frame times is a stutter (CapFrameX's factor)",
+            format!("{}", crate::measure::STUTTER_FACTOR),
+        ),
+        (
+            "default_wavelengths",
+            "the default waves' wavelengths, m",
+            and_list(default_waves().iter().map(|w| w.wavelength.to_string())),
+        ),
+        (
+            "default_wave_speeds",
+            "the default waves' speeds from the deep-water dispersion relation, m/s",
+            and_list(default_waves().iter().map(|w| format!("{:.1}", w.speed))),
+        ),
+        (
+            "default_wave_spread_degrees",
+            "the angle the default waves' directions spread over",
+            {
+                let angles: Vec<f64> = default_waves()
+                    .iter()
+                    .map(|w| f64::from(w.direction[1]).atan2(f64::from(w.direction[0])))
+                    .collect();
+                let (lo, hi) = crate::stats::min_max(&angles);
+                format!("{:.0}", (hi - lo).to_degrees())
+            },
+        ),
+        (
+            "default_wave_amplitudes",
+            "the default waves' amplitudes as a fraction of their wavelength",
+            {
+                let ratios: Vec<f64> = default_waves()
+                    .iter()
+                    .map(|w| f64::from(w.wavelength / w.amplitude))
+                    .collect();
+                let (lo, hi) = crate::stats::min_max(&ratios);
+                format!("1/{hi:.0} to 1/{lo:.0}")
+            },
+        ),
+        (
+            "default_wave_steepness",
+            "the default waves' steepness exponents",
+            {
+                let s: Vec<f64> = default_waves()
+                    .iter()
+                    .map(|w| f64::from(w.steepness))
+                    .collect();
+                let (lo, hi) = crate::stats::min_max(&s);
+                format!("{lo}-{hi}")
+            },
+        ),
     ]
 }
 
@@ -261,4 +572,59 @@ pub fn config_value(root: &Path, block: &Block) -> Result<String, String> {
         serde_json::Value::Array(items) => items.iter().map(show).collect::<Vec<_>>().join(", "),
         other => show(other),
     })
+}
+
+/// `a, b and c`.
+fn and_list(items: impl Iterator<Item = String>) -> String {
+    let items: Vec<String> = items.collect();
+    match items.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => items.join(""),
+    }
+}
+
+/// `x` as the fraction with the smallest denominator up to 100 that gives it (`16/9`, `1/60`),
+/// or as a number when none does.
+fn fraction(x: f64) -> String {
+    (1..=100u32)
+        .find_map(|d| {
+            let n = (x * f64::from(d)).round();
+            ((n / f64::from(d) - x).abs() < 1e-6 * x.abs().max(1.0)).then(|| {
+                if d == 1 {
+                    format!("{n}")
+                } else {
+                    format!("{n}/{d}")
+                }
+            })
+        })
+        .unwrap_or_else(|| format!("{x}"))
+}
+
+/// A workload level as docs write it: `0 µs`, `0.7 × S40` (S40: the step of a 40×40 mesh), or
+/// its amount in a unit.
+fn level_text(level: &crate::config::Level) -> String {
+    match (level.micros, level.step_fraction, level.size, level.amount()) {
+        (Some(us), _, _, _) => format!("{us} µs"),
+        (_, Some(f), Some(n), _) => format!("{f} × S{n}"),
+        (_, _, _, Some((unit, amount))) => format!("{amount} {unit}"),
+        _ => "?".into(),
+    }
+}
+
+/// Level `i` of `config` as `0.7 × the 40×40 step`.
+fn level_against_step(config: &SweepConfig, i: usize) -> String {
+    match config.workload_levels.get(i) {
+        Some(crate::config::Level {
+            step_fraction: Some(f),
+            size: Some(n),
+            ..
+        }) => format!("{f} × the {n}×{n} step"),
+        Some(level) => level_text(level),
+        None => "?".into(),
+    }
+}
+
+/// The built-in wave set.
+fn default_waves() -> Vec<crate::ocean::Wave> {
+    crate::ocean::WaveSet::default().waves
 }

@@ -9,11 +9,14 @@ pub const MIN: usize = 16;
 /// The largest N accepted.
 pub const MAX: usize = super::super::mesh::MAX_SIZE;
 
+/// The only prime factors a size may have.
+pub const PRIMES: [usize; 3] = [2, 3, 5];
+
 /// Whether the FFT ocean runs at size `n`.
 pub fn valid(n: usize) -> bool {
     n.is_multiple_of(2) && (MIN..=MAX).contains(&n) && {
         let mut m = n;
-        for p in [2, 3, 5] {
+        for p in PRIMES {
             while m.is_multiple_of(p) {
                 m /= p;
             }

@@ -28,7 +28,10 @@ pub const MAX_VOLUME: u64 = 512;
 pub const MAX_OCTAVES: u32 = 8;
 
 /// Allowed strides, in voxels per lattice cell.
-const STRIDE: (f64, f64) = (0.25, 4096.0);
+pub const STRIDE: (f64, f64) = (0.25, 4096.0);
+
+/// Narrowest blur.
+pub const MIN_BLUR: u32 = 3;
 
 /// Widest blur.
 const MAX_BLUR: u32 = blur::MAX_WIDTH as u32;
@@ -124,9 +127,9 @@ impl FogParams {
                 self.density
             )));
         }
-        if !(3..=MAX_BLUR).contains(&self.blur_width) || self.blur_width.is_multiple_of(2) {
+        if !(MIN_BLUR..=MAX_BLUR).contains(&self.blur_width) || self.blur_width.is_multiple_of(2) {
             return Err(InputError(format!(
-                "fog.blur_width: must be odd, 3 to {MAX_BLUR}, got {}",
+                "fog.blur_width: must be odd, {MIN_BLUR} to {MAX_BLUR}, got {}",
                 self.blur_width
             )));
         }

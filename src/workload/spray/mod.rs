@@ -27,6 +27,15 @@ const CHUNK: usize = 1 << 14;
 /// Most particles one frame may emit.
 pub const MAX_EMISSION: u32 = 1 << 24;
 
+/// The emission threshold's range (J is 1 where the surface is undisturbed).
+pub const THRESHOLD_RANGE: (f64, f64) = (-100.0, 1.0);
+/// Fastest launch speed (m/s).
+pub const MAX_SPEED: f64 = 1000.0;
+/// Longest lifetime (s).
+pub const MAX_LIFETIME: f64 = 3600.0;
+/// Strongest drag (per second).
+pub const MAX_DRAG: f64 = 1000.0;
+
 /// The spray's parameters: the config key `spray`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -67,25 +76,34 @@ impl SprayParams {
             )))
         };
         let t = self.threshold;
-        if !(t.is_finite() && (-100.0..=1.0).contains(&t)) {
+        let (lo, hi) = THRESHOLD_RANGE;
+        if !(t.is_finite() && (lo..=hi).contains(&t)) {
             return bad(
                 "threshold",
-                "-100 to 1 (J is 1 where the surface is undisturbed)",
+                &format!("{lo} to {hi} (J is 1 where the surface is undisturbed)"),
                 t.to_string(),
             );
         }
-        if !(self.speed.is_finite() && (0.0..=1000.0).contains(&self.speed)) {
-            return bad("speed", "0 to 1000 (m/s)", self.speed.to_string());
+        if !(self.speed.is_finite() && (0.0..=MAX_SPEED).contains(&self.speed)) {
+            return bad(
+                "speed",
+                &format!("0 to {MAX_SPEED} (m/s)"),
+                self.speed.to_string(),
+            );
         }
-        if !(self.lifetime.is_finite() && self.lifetime > 0.0 && self.lifetime <= 3600.0) {
+        if !(self.lifetime.is_finite() && self.lifetime > 0.0 && self.lifetime <= MAX_LIFETIME) {
             return bad(
                 "lifetime",
-                "above 0 and at most 3600 (seconds)",
+                &format!("above 0 and at most {MAX_LIFETIME} (seconds)"),
                 self.lifetime.to_string(),
             );
         }
-        if !(self.drag.is_finite() && (0.0..=1000.0).contains(&self.drag)) {
-            return bad("drag", "0 to 1000 (per second)", self.drag.to_string());
+        if !(self.drag.is_finite() && (0.0..=MAX_DRAG).contains(&self.drag)) {
+            return bad(
+                "drag",
+                &format!("0 to {MAX_DRAG} (per second)"),
+                self.drag.to_string(),
+            );
         }
         if !(1..=MAX_EMISSION).contains(&self.emission_cap) {
             return bad(
