@@ -77,16 +77,16 @@ impl Default for Camera {
 }
 
 /// Most pitch: straight down (a camera at or above the horizon never sees the sea).
-const MAX_PITCH: f32 = 90.0;
+pub const MAX_PITCH: f32 = 90.0;
 /// Fields of view stay below this (a half angle of 90° has no tangent).
-const MAX_FOV: f32 = 180.0;
+pub const MAX_FOV: f32 = 180.0;
 /// Most aspect ratio.
-const MAX_ASPECT: f32 = 10.0;
+pub const MAX_ASPECT: f32 = 10.0;
 /// Heights, far distances and path radii above this, in world units, are typos rather than
 /// cameras (and would leave an f32 vertex no fractional digits).
-const MAX_HEIGHT: f32 = 1e6;
+pub const MAX_HEIGHT: f32 = 1e6;
 /// The default far distance, in patch widths.
-const FAR_PATCHES: f32 = 10.0;
+pub const FAR_PATCHES: f32 = 10.0;
 /// How far the waves may rise above the still sea when the default height frames the patch,
 /// as a fraction of the patch's width.
 const WAVE_ROOM: f32 = 0.1;

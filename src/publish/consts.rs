@@ -81,6 +81,62 @@ pub fn all() -> Vec<(&'static str, &'static str, String)> {
             "the results.json layout this build writes",
             crate::results::SCHEMA_VERSION.to_string(),
         ),
+        (
+            "min_depth",
+            "the shallowest run-ahead ring (the paper's loop)",
+            depths(crate::frame_loop::Threading::Pool)
+                .next()
+                .expect("some depth runs")
+                .to_string(),
+        ),
+        (
+            "spawn_max_depth",
+            "the deepest ring a helper spawned per frame can run",
+            depths(crate::frame_loop::Threading::Spawn)
+                .last()
+                .expect("some depth runs")
+                .to_string(),
+        ),
+        (
+            "camera_max_pitch",
+            "the most pitch a camera takes, in degrees (straight down)",
+            format!("{}", crate::camera::MAX_PITCH),
+        ),
+        (
+            "camera_max_fov",
+            "the field of view a camera stays below, in degrees",
+            format!("{}", crate::camera::MAX_FOV),
+        ),
+        (
+            "camera_max_aspect",
+            "the widest aspect ratio a camera takes",
+            format!("{}", crate::camera::MAX_ASPECT),
+        ),
+        (
+            "camera_max_distance",
+            "the most camera height, far distance and path radius, in world units",
+            format!("{}", crate::camera::MAX_HEIGHT),
+        ),
+        (
+            "camera_far_patches",
+            "the default far distance, in patch widths",
+            format!("{}", crate::camera::FAR_PATCHES),
+        ),
+        (
+            "camera_default_pitch",
+            "the default camera's pitch, in degrees",
+            format!("{}", crate::camera::Camera::default().pitch_degrees),
+        ),
+        (
+            "camera_default_fov",
+            "the default camera's field of view, in degrees",
+            format!("{}", crate::camera::Camera::default().fov_degrees),
+        ),
+        (
+            "camera_default_path_period",
+            "seconds per turn of a camera path given by its radius alone (--path-radius)",
+            format!("{}", default_path_period()),
+        ),
         // fft (docs/fft-ocean.md, docs/balance.md):
         (
             "fft_strip_columns",
@@ -526,6 +582,23 @@ fn fft_allowed(key: &str) -> String {
         (false, false, true) => "> 0".into(),
         other => format!("? ({key}: {other:?})"),
     }
+}
+
+/// The ring depths `check_depth` accepts under `threading`, shallowest first.
+fn depths(threading: crate::frame_loop::Threading) -> impl Iterator<Item = usize> {
+    (0..=crate::frame_loop::MAX_DEPTH)
+        .filter(move |&d| crate::frame_loop::check_depth(d, threading).is_ok())
+}
+
+/// The period `--path-radius` alone gives a still camera's path.
+fn default_path_period() -> f32 {
+    let mut camera = crate::camera::Camera::default();
+    crate::cli::CameraArgs {
+        path_radius: Some(1.0),
+        ..Default::default()
+    }
+    .apply(&mut camera);
+    camera.path.expect("a radius gives a path").period_seconds
 }
 
 /// The constant `name` as docs write it.
