@@ -567,6 +567,65 @@ pub fn all() -> Vec<(&'static str, &'static str, String)> {
                 format!("{lo}-{hi}")
             },
         ),
+        // spray and the fast kernel (docs/spray.md, docs/performance.md):
+        (
+            "spray_gravity",
+            "the spray's gravity, in m/s²",
+            format!("{}", crate::workload::spray::GRAVITY),
+        ),
+        (
+            "spray_bytes_per_particle",
+            "bytes one particle slot of the spray's pool takes",
+            crate::workload::spray::BYTES_PER_PARTICLE.to_string(),
+        ),
+        (
+            "spray_float_arrays",
+            "the `f32` arrays the spray's integration reads and writes",
+            crate::workload::spray::Pool::new(0).floats().len().to_string(),
+        ),
+        (
+            "spray_integration_bytes",
+            "bytes a particle the spray's integration reads and writes once",
+            (crate::workload::spray::Pool::new(0).floats().len() * std::mem::size_of::<f32>())
+                .to_string(),
+        ),
+        (
+            "spray_default_threshold",
+            "the spray's default emission threshold (J)",
+            format!("{}", crate::workload::SprayParams::default().threshold),
+        ),
+        (
+            "spray_default_speed",
+            "the spray's default launch speed, m/s",
+            format!("{}", crate::workload::SprayParams::default().speed),
+        ),
+        (
+            "spray_default_lifetime",
+            "the spray's default lifetime, s",
+            format!("{}", crate::workload::SprayParams::default().lifetime),
+        ),
+        (
+            "spray_default_drag",
+            "the spray's default drag, per s",
+            format!("{}", crate::workload::SprayParams::default().drag),
+        ),
+        (
+            "spray_default_emission_cap",
+            "the spray's default cap of births a frame",
+            crate::workload::SprayParams::default()
+                .emission_cap
+                .to_string(),
+        ),
+        (
+            "spray_default_seed",
+            "the spray's default jitter seed",
+            crate::workload::SprayParams::default().seed.to_string(),
+        ),
+        (
+            "fused_exponents",
+            "the integer exponents 2k − 2 the fused wave loop is compiled for (0 to MAX_INT_EXP)",
+            (crate::ocean::sines::fast::phase::MAX_INT_EXP + 1).to_string(),
+        ),
     ]
 }
 
