@@ -17,12 +17,15 @@
 //! - `grid run=R rows=".." cols=".."`: a table of one stat of many cells ([`grid`]);
 //! - `config file=configs/F.json key=K`: a value of a committed config (`key` a dotted path,
 //!   with indexes for lists; a list renders as `a, b, c`);
-//! - `bench run=bench-... [id=ID [over=ID]] [ids=PREFIX,...]`: a benchmark run's estimates.
+//! - `bench run=bench-... [id=ID [over=ID]] [ids=PREFIX,...]`: a benchmark run's estimates;
+//! - `latency run=latency-... [method=M cores=one|two [stat=..] [over=M2] [unit=..] [digits=N]]`:
+//!   a latency run's round-trip table, or one number of it ([`latency`]).
 
 mod bench;
 pub mod blocks;
 pub mod consts;
 mod grid;
+mod latency;
 pub mod loose;
 pub mod refs;
 
@@ -105,9 +108,10 @@ impl Context {
             "config" => &["file", "key"],
             "ref" => &["name"],
             "bench" => &["run", "id", "over", "ids"],
+            "latency" => &["run", "method", "cores", "stat", "over", "unit", "digits"],
             other => {
                 return Err(format!(
-                    "unknown block kind `{other}` (allowed: table, findings, value, grid, figure, source, levels, const, config, ref, bench)"
+                    "unknown block kind `{other}` (allowed: table, findings, value, grid, figure, source, levels, const, config, ref, bench, latency)"
                 ))
             }
         };
@@ -135,6 +139,9 @@ impl Context {
         let link = self.link(file, block)?;
         if block.kind == "bench" {
             return bench::render(&self.root, block, &link);
+        }
+        if block.kind == "latency" {
+            return latency::render(&self.root, block, &link);
         }
         let multiline = block.multiline;
         let (_, results, found) = self.run(block)?;
