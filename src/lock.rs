@@ -60,15 +60,31 @@ pub enum LockError {
 /// Where the per-core lock files live: `$OCEANBENCH_LOCK_DIR`, else `$XDG_RUNTIME_DIR/oceanbench`,
 /// else `oceanbench-<uid>` in the temp directory, so every user of the machine shares them.
 pub fn dir() -> PathBuf {
-    if let Some(d) = std::env::var_os(DIR_ENV).filter(|d| !d.is_empty()) {
-        return PathBuf::from(d);
-    }
-    if let Some(d) = std::env::var_os("XDG_RUNTIME_DIR").filter(|d| !d.is_empty()) {
-        return PathBuf::from(d).join("oceanbench");
-    }
     // SAFETY: getuid has no preconditions and cannot fail.
     let uid = unsafe { libc::getuid() };
-    std::env::temp_dir().join(format!("oceanbench-{uid}"))
+    dir_from(
+        std::env::var_os(DIR_ENV),
+        std::env::var_os("XDG_RUNTIME_DIR"),
+        &std::env::temp_dir(),
+        uid,
+    )
+}
+
+/// [`dir`] from the two variables, the temp directory and the user id; an empty variable counts
+/// as unset (a login without a runtime directory may export it empty).
+fn dir_from(
+    lock_dir: Option<std::ffi::OsString>,
+    runtime_dir: Option<std::ffi::OsString>,
+    temp: &Path,
+    uid: u32,
+) -> PathBuf {
+    if let Some(d) = lock_dir.filter(|d| !d.is_empty()) {
+        return PathBuf::from(d);
+    }
+    if let Some(d) = runtime_dir.filter(|d| !d.is_empty()) {
+        return PathBuf::from(d).join("oceanbench");
+    }
+    temp.join(format!("oceanbench-{uid}"))
 }
 
 /// The lock file of one core.
@@ -194,5 +210,59 @@ fn read_holder(mut file: File) -> String {
         "another process (it has not written its pid yet)".into()
     } else {
         text.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::ffi::OsString;
+
+    #[test]
+    fn the_lock_dir_skips_empty_variables() {
+        let tmp = Path::new("/tmp");
+        let some = |s: &str| Some(OsString::from(s));
+        assert_eq!(
+            dir_from(some("/l"), some("/run/user/7"), tmp, 7),
+            Path::new("/l")
+        );
+        assert_eq!(
+            dir_from(some(""), some("/run/user/7"), tmp, 7),
+            Path::new("/run/user/7/oceanbench")
+        );
+        assert_eq!(
+            dir_from(None, some(""), tmp, 7),
+            Path::new("/tmp/oceanbench-7")
+        );
+        assert_eq!(dir_from(None, None, tmp, 7), Path::new("/tmp/oceanbench-7"));
+    }
+
+    #[test]
+    fn a_lock_file_removed_and_made_again_is_not_the_one_opened() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("core-0.lock");
+        let old = File::create(&path).unwrap();
+        assert!(same_file(&old, &path));
+        // What a waiting run sees when the holder removed the file between its open and its
+        // lock, and a third run made it again: same device, another inode.
+        std::fs::remove_file(&path).unwrap();
+        assert!(!same_file(&old, &path), "the path names nothing now");
+        let new = File::create(&path).unwrap();
+        assert!(!same_file(&old, &path), "the path names another file");
+        assert!(same_file(&new, &path));
+    }
+
+    #[test]
+    fn a_taker_that_opened_a_removed_lock_file_takes_the_new_one() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("core-0.lock");
+        let first = try_take(&path).unwrap();
+        let stale = File::open(&path).unwrap();
+        drop(first);
+        assert!(!path.exists(), "a dropped lock removes its file");
+        let second = try_take(&path).unwrap();
+        assert!(same_file(&second.file, &path));
+        assert!(!same_file(&stale, &path));
+        assert!(holder(&path).is_none(), "this process holds it");
     }
 }

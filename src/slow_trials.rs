@@ -270,6 +270,22 @@ mod tests {
     }
 
     #[test]
+    fn the_step_ratio_is_against_the_cells_median_step() {
+        // Steps of 4 ms, not 1, so a ratio taken the wrong way round (step × median) shows.
+        let mut facts = quiet();
+        for f in &mut facts {
+            f.breakdown = Some(breakdown(4.0));
+        }
+        facts[1].fps = 60.0;
+        assert_eq!(attribute(&facts, 10.0)[1].step_ratio, Some(1.0));
+        assert_eq!(causes(&facts, 1), Some(vec![Cause::Unexplained]));
+        facts[1].breakdown = Some(breakdown(5.2));
+        let ratio = attribute(&facts, 10.0)[1].step_ratio.unwrap();
+        assert!((ratio - 1.3).abs() < 1e-9, "{ratio}");
+        assert_eq!(causes(&facts, 1), Some(vec![Cause::SlowHelperCore]));
+    }
+
+    #[test]
     fn a_calibration_that_ran_slow_does_not_hide_a_slowed_trial() {
         let mut facts = quiet();
         for f in &mut facts {

@@ -51,6 +51,32 @@ const SHORT_RUN: &[&str] = &[
     "0,1",
 ];
 
+/// How long any process of these tests may take: a lock that never frees fails the test within
+/// this, instead of hanging it.
+const LIMIT: Duration = Duration::from_secs(20);
+
+/// Runs `cmd` to its end, or kills it and fails once it has run for [`LIMIT`].
+fn output(cmd: &mut Command) -> Output {
+    finish(cmd.spawn().unwrap())
+}
+
+/// Waits for `child`, or kills it and fails once it has run for [`LIMIT`].
+fn finish(mut child: Child) -> Output {
+    let deadline = Instant::now() + LIMIT;
+    while child.try_wait().unwrap().is_none() {
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let out = child.wait_with_output().unwrap();
+            panic!(
+                "still running after {LIMIT:?} (a lock that never frees?): {}",
+                stderr(&out)
+            );
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
 fn with(base: &[&str], more: &[&str]) -> Vec<String> {
     base.iter().chain(more).map(|s| s.to_string()).collect()
 }
@@ -62,7 +88,7 @@ fn strs(v: &[String]) -> Vec<&str> {
 /// Waits until `child` has written its pid into the lock file at `path`, so it holds the lock.
 fn wait_for_holder(child: &mut Child, path: &Path) {
     let pid = format!("pid {}:", child.id());
-    let deadline = Instant::now() + Duration::from_secs(120);
+    let deadline = Instant::now() + LIMIT;
     loop {
         if std::fs::read_to_string(path).is_ok_and(|t| t.starts_with(&pid)) {
             return;
@@ -119,12 +145,13 @@ fn a_second_run_into_a_folder_in_use_is_refused_and_the_first_completes() {
     wait_for_holder(&mut first, &out.join(".oceanbench.lock"));
 
     // Its own core locks: only the folder's lock can stop it.
-    let second = oceanbench(&second_locks, &strs(&with(SHORT_RUN, &["--out", &out_arg])))
-        .output()
-        .unwrap();
+    let second = output(&mut oceanbench(
+        &second_locks,
+        &strs(&with(SHORT_RUN, &["--out", &out_arg])),
+    ));
     assert_refused(&second, first.id(), &["--out", &out_arg]);
 
-    let first = first.wait_with_output().unwrap();
+    let first = finish(first);
     assert!(first.status.success(), "{}", stderr(&first));
     let results = Results::load(&out.join("results.json")).unwrap();
     assert!(results.finished.is_some());
@@ -145,17 +172,16 @@ fn a_run_on_cores_in_use_is_refused_with_no_wait_and_doctor_names_the_holder() {
     let mut first = oceanbench(&locks, LONG_RUN).spawn().unwrap();
     wait_for_holder(&mut first, &locks.join("core-1.lock"));
 
-    let second = oceanbench(&locks, &strs(&with(SHORT_RUN, &["--no-wait"])))
-        .output()
-        .unwrap();
+    let second = output(&mut oceanbench(
+        &locks,
+        &strs(&with(SHORT_RUN, &["--no-wait"])),
+    ));
     assert_refused(&second, first.id(), &["--no-wait", "core"]);
 
-    let doctor = oceanbench(
+    let doctor = output(&mut oceanbench(
         &locks,
         &["doctor", "--cores", "0,1", "--seconds", "0.1", "--json"],
-    )
-    .output()
-    .unwrap();
+    ));
     assert!(doctor.status.success(), "{}", stderr(&doctor));
     let report: Report = serde_json::from_slice(&doctor.stdout).unwrap();
     let held: Vec<_> = report
@@ -169,7 +195,7 @@ fn a_run_on_cores_in_use_is_refused_with_no_wait_and_doctor_names_the_holder() {
         assert!(f.finding.contains(&format!("pid {}:", first.id())), "{f:?}");
     }
 
-    let first = first.wait_with_output().unwrap();
+    let first = finish(first);
     assert!(first.status.success(), "{}", stderr(&first));
     assert!(lock_files(&locks).is_empty(), "{:?}", lock_files(&locks));
 }
@@ -182,21 +208,19 @@ fn a_run_on_cores_in_use_waits_for_them_saying_so_once() {
     wait_for_holder(&mut first, &locks.join("core-0.lock"));
     let pid = first.id();
 
-    let second = oceanbench(&locks, SHORT_RUN).output().unwrap();
+    let second = output(&mut oceanbench(&locks, SHORT_RUN));
     let err = stderr(&second);
     assert!(second.status.success(), "{err}");
     let waits: Vec<&str> = err.lines().filter(|l| l.contains("waiting")).collect();
     assert_eq!(waits.len(), 1, "{err}");
     assert!(waits[0].contains(&format!("pid {pid}:")), "{err}");
 
-    let first = first.wait_with_output().unwrap();
+    let first = finish(first);
     assert!(first.status.success(), "{}", stderr(&first));
-    let doctor = oceanbench(
+    let doctor = output(&mut oceanbench(
         &locks,
         &["doctor", "--cores", "0,1", "--seconds", "0.1", "--json"],
-    )
-    .output()
-    .unwrap();
+    ));
     let report: Report = serde_json::from_slice(&doctor.stdout).unwrap();
     assert!(report
         .findings
@@ -233,7 +257,7 @@ fn a_failed_write_leaves_no_temporary_file() {
             Ok(())
         });
     }
-    let run = cmd.output().unwrap();
+    let run = output(&mut cmd);
     let err = stderr(&run);
     assert_eq!(run.status.code(), Some(1), "{err}");
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
@@ -251,20 +275,23 @@ fn resume_and_balance_take_the_folder_lock_too() {
     let locks = tmp.path().join("locks");
     let out = tmp.path().join("out");
     let out_arg = out.to_string_lossy().into_owned();
-    let written = oceanbench(&locks, &strs(&with(SHORT_RUN, &["--out", &out_arg])))
-        .output()
-        .unwrap();
+    let written = output(&mut oceanbench(
+        &locks,
+        &strs(&with(SHORT_RUN, &["--out", &out_arg])),
+    ));
     assert!(written.status.success(), "{}", stderr(&written));
 
     // This test process is the holder: a second process must see the lock whoever took it.
     let held = oceanbench::lock::out_dir(&out).unwrap();
-    let resume = oceanbench(&locks, &["sweep", "--resume", &out_arg, "--no-wait"])
-        .output()
-        .unwrap();
+    let resume = output(&mut oceanbench(
+        &locks,
+        &["sweep", "--resume", &out_arg, "--no-wait"],
+    ));
     assert_refused(&resume, std::process::id(), &["--resume", &out_arg]);
-    let balance = oceanbench(&locks, &["balance", "--size", "8", "--out", &out_arg])
-        .output()
-        .unwrap();
+    let balance = output(&mut oceanbench(
+        &locks,
+        &["balance", "--size", "8", "--out", &out_arg],
+    ));
     assert_refused(&balance, std::process::id(), &["--out", &out_arg]);
     drop(held);
     assert!(lock_files(&out).is_empty(), "{:?}", lock_files(&out));
