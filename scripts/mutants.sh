@@ -1,0 +1,124 @@
+#!/usr/bin/env bash
+# Mutation testing of the modules that decide what users are told or guard their data: runs
+# cargo-mutants on each named source file (or folder) against the tests that cover it, and keeps
+# what it found as a small results folder, results/mutants-<UTC>/:
+#   summary.json  the commit and tree, and per module the counts (caught, missed, timeout,
+#                 unviable) with every survivor, explained or not;
+#   summary.md    the same as a table;
+#   <module>/     cargo-mutants' own outcomes (caught.txt, missed.txt, timeout.txt, unviable.txt).
+# A survivor is explained when scripts/mutants-equivalent.txt names it (file, then the mutant as
+# cargo-mutants words it without line and column, then ` -- ` and why it changes nothing).
+#
+#   scripts/mutants.sh src/lock.rs src/slow_trials.rs
+#   OUT=results/mutants-x scripts/mutants.sh src/balance/
+#
+# Slow (a build and the covering tests per mutant): run it on a schedule, not on every push
+# (docs/ci.md). Exit status: 0 when every survivor is explained, 1 when one is not, 2 on bad
+# input.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+usage="usage: scripts/mutants.sh MODULE... (source files or folders under src/)"
+if [ $# -lt 1 ]; then
+  echo "$usage" >&2
+  exit 2
+fi
+if ! cargo mutants --version >/dev/null 2>&1; then
+  echo "scripts/mutants.sh: cargo-mutants is missing: install it with 'cargo install cargo-mutants --locked'" >&2
+  exit 2
+fi
+for m in "$@"; do
+  case "$m" in
+    src/*.rs) [ -f "$m" ] || { echo "scripts/mutants.sh: $m is no source file ($usage)" >&2; exit 2; } ;;
+    src/*/) [ -d "$m" ] || { echo "scripts/mutants.sh: $m is no folder of src/ ($usage)" >&2; exit 2; } ;;
+    *) echo "scripts/mutants.sh: $m is no source file or folder under src/ ($usage)" >&2; exit 2 ;;
+  esac
+done
+
+# The test targets that cover a module: the library's unit tests, and every integration test
+# that names the module's path (oceanbench::lock, oceanbench::balance...); the lock tests drive
+# the binary and name no path, so they are added by name.
+tests_for() {
+  local module="$1" name args=(--lib)
+  name="$(basename "${module%/}" .rs)"
+  for t in tests/*.rs; do
+    if grep -q "oceanbench::$name\b\|crate::$name\b" "$t"; then
+      args+=(--test "$(basename "$t" .rs)")
+    fi
+  done
+  [ "$name" != lock ] || args+=(--test locks)
+  printf '%s\n' "${args[@]}" | awk '!seen[$0]++'
+}
+
+stamp="$(date -u +%Y%m%dT%H%M%SZ)"
+out="${OUT:-results/mutants-$stamp}"
+mkdir -p "$out"
+commit="$(git rev-parse HEAD)"
+dirty=false
+git diff-index --quiet HEAD -- || dirty=true
+status=0
+for m in "$@"; do
+  name="$(echo "${m%/}" | sed 's|^src/||; s|/|-|g; s|\.rs$||')"
+  mapfile -t targets < <(tests_for "$m")
+  glob="$m"
+  [ -d "$m" ] && glob="${m%/}/**/*.rs"
+  echo "== $m: cargo test ${targets[*]}" >&2
+  # cargo-mutants exits 2 when a mutant survives, 3 on a timeout: outcomes are what count here.
+  cargo mutants --no-shuffle -f "$glob" --output "$out/$name.tmp" \
+    --minimum-test-timeout 30 -- "${targets[@]}" >&2 || true
+  rm -rf "${out:?}/$name"
+  mv "$out/$name.tmp/mutants.out" "$out/$name"
+  rm -rf "${out:?}/$name.tmp"
+  # Only the small outcome lists are kept; the logs and diffs stay out of results/.
+  find "$out/$name" -mindepth 1 -not -name '*.txt' -not -name outcomes.json -exec rm -rf {} +
+  rm -f "$out/$name/outcomes.json"
+done
+
+python3 - "$out" "$commit" "$dirty" "$@" <<'EOF' || status=$?
+import json, re, sys, pathlib
+out, commit, dirty, modules = pathlib.Path(sys.argv[1]), sys.argv[2], sys.argv[3] == "true", sys.argv[4:]
+equivalent = {}
+for line in pathlib.Path("scripts/mutants-equivalent.txt").read_text().splitlines():
+    if line.strip() and not line.startswith("#"):
+        mutant, why = line.split(" -- ", 1)
+        equivalent[mutant.strip()] = why.strip()
+
+def key(mutant):
+    # "src/lock.rs:194:46: replace && with || in same_file" -> "src/lock.rs: replace && with || in same_file"
+    return re.sub(r"^([^:]+):\d+:\d+:", r"\1:", mutant)
+
+def lines(path):
+    return [l for l in path.read_text().splitlines() if l.strip()] if path.exists() else []
+
+summary = {"commit": commit, "dirty": dirty, "modules": []}
+unexplained = 0
+for m in modules:
+    name = re.sub(r"\.rs$", "", m.rstrip("/").removeprefix("src/").replace("/", "-"))
+    d = out / name
+    caught, missed = lines(d / "caught.txt"), lines(d / "missed.txt")
+    timeout, unviable = lines(d / "timeout.txt"), lines(d / "unviable.txt")
+    survivors = [{"mutant": s, "equivalent": equivalent.get(key(s))} for s in missed + timeout]
+    unexplained += sum(1 for s in survivors if s["equivalent"] is None)
+    viable = len(caught) + len(missed) + len(timeout)
+    summary["modules"].append({
+        "module": m, "caught": len(caught), "missed": len(missed), "timeout": len(timeout),
+        "unviable": len(unviable),
+        "caught_percent": round(100 * len(caught) / viable, 1) if viable else None,
+        "survivors": survivors,
+    })
+(out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+md = [f"# Mutants at {commit[:12]}{' (dirty tree)' if dirty else ''}", "",
+      "| module | caught | missed | timeout | unviable | caught of viable |", "|---|---:|---:|---:|---:|---:|"]
+for m in summary["modules"]:
+    pct = "–" if m["caught_percent"] is None else f"{m['caught_percent']} %"
+    md.append(f"| {m['module']} | {m['caught']} | {m['missed']} | {m['timeout']} | {m['unviable']} | {pct} |")
+md += ["", "Survivors:", ""]
+for m in summary["modules"]:
+    for s in m["survivors"]:
+        md.append(f"- {s['mutant']}: " + (f"equivalent: {s['equivalent']}" if s["equivalent"] else "**unexplained**"))
+(out / "summary.md").write_text("\n".join(md) + "\n")
+print("\n".join(md))
+sys.exit(1 if unexplained else 0)
+EOF
+echo "$out" >&2
+exit "$status"
