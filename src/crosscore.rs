@@ -9,7 +9,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 /// Round trips per timed batch: large enough that reading the clock costs nothing.
-const BATCH: u64 = 200;
+pub const BATCH: u64 = 200;
 
 /// Slowest ÷ fastest median round trip that still counts as the same placement: further apart,
 /// the two cores moved between near and far.

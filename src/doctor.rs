@@ -290,7 +290,7 @@ fn smt(r: &mut Reader, cores: &[usize]) -> Vec<Finding> {
 }
 
 /// Round trips timed before the window and again after it.
-const PLACEMENT_TRIPS: usize = 3;
+pub const PLACEMENT_TRIPS: usize = 3;
 
 /// `n` median cross-core round trips between the two cores (ns); none on one core. Each is 300
 /// batches: a few ms near, some tens far.

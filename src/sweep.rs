@@ -157,7 +157,13 @@ pub fn utc_now() -> String {
 const ROUND_TRIP_BATCHES: usize = 500;
 
 /// Batches per round trip around a trial: enough for a median that tells near from far.
-const TRIAL_ROUND_TRIP_BATCHES: usize = 10;
+pub const TRIAL_ROUND_TRIP_BATCHES: usize = 10;
+
+/// Rounds of the yardstick measured before every row, at least (step and workload alternately).
+pub const ROW_YARDSTICK_ROUNDS: usize = 5;
+
+/// Time the yardstick before every row takes, at least.
+pub const ROW_YARDSTICK_MIN: Duration = Duration::from_millis(50);
 
 /// What a running sweep reports to whoever runs it; every method does nothing unless
 /// overridden (as criterion's `Report`).
@@ -481,8 +487,8 @@ impl Sweep {
             config.spacing,
             &self.params,
             self.results.calibration.workload.sample_iterations,
-            5,
-            Duration::from_millis(50),
+            ROW_YARDSTICK_ROUNDS,
+            ROW_YARDSTICK_MIN,
         );
         // A step_fraction level is a fraction of the row's own ocean's step: the row's yardstick,
         // or with `once` the start's (whose record of levels is the sines').

@@ -626,6 +626,111 @@ pub fn all() -> Vec<(&'static str, &'static str, String)> {
             "the integer exponents 2k − 2 the fused wave loop is compiled for (0 to MAX_INT_EXP)",
             (crate::ocean::sines::fast::phase::MAX_INT_EXP + 1).to_string(),
         ),
+        // fog and noise (docs/fog.md, docs/noise.md):
+        (
+            "fog_min_octaves",
+            "the fewest octaves the fog's noise sums",
+            fog_octaves_accepted().next().expect("some octave count").to_string(),
+        ),
+        (
+            "fog_default_octaves",
+            "the fog's octaves by default",
+            crate::workload::FogParams::default().octaves.to_string(),
+        ),
+        (
+            "fog_default_strides",
+            "the default octaves' strides, voxels per lattice cell",
+            fog_default_octaves(|o| o.stride.to_string()),
+        ),
+        (
+            "fog_default_weights",
+            "the default octaves' weights, before normalising",
+            fog_default_octaves(|o| o.weight.to_string()),
+        ),
+        (
+            "fog_default_density",
+            "the fog's density ρ by default, per patch width",
+            format!("{}", crate::workload::FogParams::default().density),
+        ),
+        (
+            "fog_default_blur_width",
+            "the fog blur's taps per axis by default",
+            crate::workload::FogParams::default().blur_width.to_string(),
+        ),
+        (
+            "fog_default_blur_taps",
+            "the default blur's weights: its row of Pascal's triangle over their sum",
+            fog_default_blur_taps(),
+        ),
+        (
+            "fog_default_seed",
+            "the fog's permutation seed by default",
+            crate::workload::FogParams::default().seed.to_string(),
+        ),
+        (
+            "fog_max_buffer_mib",
+            "MiB of each of the two buffers of the largest fog volume",
+            (crate::workload::fog::volume_bytes(crate::workload::fog::MAX_VOLUME) / 2 >> 20)
+                .to_string(),
+        ),
+        (
+            "fog_drift",
+            "voxels the fog's noise moves per frame along x, y and z",
+            crate::workload::fog::Fog::frame(1)
+                .offset
+                .map(|d| d.to_string())
+                .join(", "),
+        ),
+        (
+            "fog_floor",
+            "the floor added to the fog's height falloff",
+            format!("{}", crate::workload::fog::coefficient::FLOOR),
+        ),
+        (
+            "fog_oracle_tolerance",
+            "the largest difference the tests allow between the fog's noise and the noise crate's",
+            scientific(&format!("{:e}", crate::workload::fog::noise::ORACLE_TOLERANCE)),
+        ),
+        (
+            "doctor_seconds",
+            "the seconds `doctor` watches the machine by default",
+            doctor_seconds(),
+        ),
+        (
+            "doctor_placement_trips",
+            "round trips `doctor` times before its window, and again after",
+            crate::doctor::PLACEMENT_TRIPS.to_string(),
+        ),
+        (
+            "row_yardstick_rounds",
+            "rounds of the yardstick measured before every row, at least",
+            crate::sweep::ROW_YARDSTICK_ROUNDS.to_string(),
+        ),
+        (
+            "row_yardstick_ms",
+            "milliseconds the yardstick before every row takes, at least",
+            crate::sweep::ROW_YARDSTICK_MIN.as_millis().to_string(),
+        ),
+        (
+            "calibration_drift_percent",
+            "how far a row's step or workload speed may drift from the start before the sweep warns",
+            format!("{}", crate::calibrate::DRIFT_WARNING * 100.0),
+        ),
+        (
+            "canary_slower_ratio",
+            "a canary at least this many times its reference says its core ran slower",
+            format!("{}", 1.0 + crate::slow_trials::CANARY_SLOWER),
+        ),
+        (
+            "trial_round_trip_batches",
+            "batches of the round trip timed just before and just after every trial",
+            crate::sweep::TRIAL_ROUND_TRIP_BATCHES.to_string(),
+        ),
+        (
+            "round_trip_batch_trips",
+            "round trips in one timed batch",
+            crate::crosscore::BATCH.to_string(),
+        ),
     ]
 }
 
@@ -759,4 +864,63 @@ fn level_against_step(config: &SweepConfig, i: usize) -> String {
 /// The built-in wave set.
 fn default_waves() -> Vec<crate::ocean::Wave> {
     crate::ocean::WaveSet::default().waves
+}
+
+/// The octave counts the fog's check accepts, fewest first.
+fn fog_octaves_accepted() -> impl Iterator<Item = u32> {
+    (0..=crate::workload::fog::MAX_OCTAVES).filter(|&octaves| {
+        crate::workload::FogParams {
+            octaves,
+            ..Default::default()
+        }
+        .validate()
+        .is_ok()
+    })
+}
+
+/// One field of every default fog octave, as `a, b, c`.
+fn fog_default_octaves(field: impl Fn(&crate::workload::fog::noise::Octave) -> String) -> String {
+    let octaves = crate::workload::FogParams::default().octaves();
+    octaves.iter().map(field).collect::<Vec<_>>().join(", ")
+}
+
+/// The default blur's weights as whole numbers over their sum: `1 4 6 4 1 / 16`.
+fn fog_default_blur_taps() -> String {
+    let width = crate::workload::FogParams::default().blur_width as usize;
+    let total = 2f64.powi(width as i32 - 1);
+    let taps: Vec<String> = crate::workload::fog::blur::weights(width)
+        .iter()
+        .map(|&w| format!("{}", (f64::from(w) * total).round()))
+        .collect();
+    format!("{} / {total}", taps.join(" "))
+}
+
+/// A number written `2e-6` as docs write it: `2·10⁻⁶`.
+fn scientific(text: &str) -> String {
+    let (mantissa, exponent) = text.split_once('e').unwrap_or((text, "0"));
+    let superscript: String = exponent
+        .chars()
+        .map(|c| match c {
+            '-' => '⁻',
+            d => "⁰¹²³⁴⁵⁶⁷⁸⁹"
+                .chars()
+                .nth(d.to_digit(10).unwrap_or(0) as usize)
+                .unwrap_or(d),
+        })
+        .collect();
+    format!("{mantissa}·10{superscript}")
+}
+
+/// The default of `doctor --seconds`, as the command line has it.
+fn doctor_seconds() -> String {
+    use clap::CommandFactory;
+    crate::cli::Cli::command()
+        .find_subcommand("doctor")
+        .and_then(|c| {
+            c.get_arguments()
+                .find(|a| a.get_id() == "seconds")
+                .and_then(|a| a.get_default_values().first())
+                .map(|v| v.to_string_lossy().into_owned())
+        })
+        .unwrap_or_else(|| "?".into())
 }

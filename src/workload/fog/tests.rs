@@ -6,9 +6,7 @@ use crate::workload::{WorkRecord, WorkloadKind};
 use ::noise::permutationtable::{NoiseHasher, PermutationTable};
 use ::noise::{NoiseFn, Perlin};
 
-/// Largest difference allowed between the fast noise (f32) and the `noise` crate's Perlin (f64)
-/// on a volume of octave sums in [−1, 1]: a few f32 roundings of values of order 1.
-const NOISE_TOLERANCE: f32 = 2e-6;
+const NOISE_TOLERANCE: f32 = noise::ORACLE_TOLERANCE;
 
 fn spec(n: usize, volume: u64, fog: FogParams) -> WorkSpec {
     WorkSpec {
