@@ -228,3 +228,15 @@ fn latency_and_doctor_refuse_one_core_twice() {
     }
     assert!(!json.exists(), "nothing written");
 }
+
+#[test]
+fn a_lone_round_trip_outside_the_cluster_is_named_not_dropped() {
+    let one = oceanbench::placement::Split::of([42.5, 49.9, 50.7, 388.7]).unwrap();
+    assert!(!one.two());
+    assert_eq!(
+        one.describe(),
+        "one placement, round trip 42-51 ns (and 1 round trip outside it)"
+    );
+    let two = oceanbench::placement::Split::of([40.0, 41.0, 400.0, 410.0, 4000.0]).unwrap();
+    assert!(two.describe().ends_with("(and 1 round trip in neither)"));
+}

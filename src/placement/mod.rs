@@ -144,10 +144,21 @@ impl Split {
                 format!("{lo:.0}-{hi:.0} ns")
             }
         };
+        // A lone round trip far from the rest is no cluster, but it may be the only sign of a
+        // move, so the line never drops it silently.
+        let outliers = match self.outliers {
+            0 => String::new(),
+            1 => " (and 1 round trip in neither)".to_string(),
+            n => format!(" (and {n} round trips in neither)"),
+        };
         match self.far_ns {
-            None => format!("one placement, round trip {}", ns(self.near_ns)),
+            None => format!(
+                "one placement, round trip {}{}",
+                ns(self.near_ns),
+                outliers.replace("in neither", "outside it")
+            ),
             Some(far) => format!(
-                "two placements: near {} ({} round trips), far {} ({})",
+                "two placements: near {} ({} round trips), far {} ({}){outliers}",
                 ns(self.near_ns),
                 self.near_count,
                 ns(far),
