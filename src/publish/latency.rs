@@ -87,7 +87,7 @@ fn load(root: &Path, block: &Block) -> Result<Run, BlockError> {
 }
 
 impl Run {
-    /// The methods of the run, in the order of the file.
+    /// The methods of the run: the floor first, then the others in the order of the file.
     fn methods(&self) -> Vec<&str> {
         let mut out: Vec<&str> = Vec::new();
         for r in &self.rows {
@@ -95,6 +95,7 @@ impl Run {
                 out.push(&r.method);
             }
         }
+        out.sort_by_key(|m| *m != FLOOR);
         out
     }
 
@@ -267,30 +268,28 @@ fn value(run: &Run, block: &Block) -> Result<String, BlockError> {
 
 /// The run's table: a row per method, one core and two cores side by side.
 fn table(run: &Run, link: &str) -> String {
-    let placement = |cores: Cores| {
-        run.rows
-            .iter()
-            .find(|r| Cores::of(r) == cores)
-            .map(|r| (r.main_core, r.helper_core))
-    };
-    let mut where_ = Vec::new();
-    if let Some((m, _)) = placement(Cores::One) {
-        where_.push(format!("main thread and helper on core {m} (one core)"));
-    }
-    if let Some((m, h)) = placement(Cores::Two) {
-        where_.push(format!(
-            "main thread on core {m}, helper on core {h} (two cores)"
-        ));
+    let mut placed = Vec::new();
+    for cores in [Cores::One, Cores::Two] {
+        if let Some(r) = run.rows.iter().find(|r| Cores::of(r) == cores) {
+            placed.push(if cores == Cores::One {
+                format!("one core: both threads on core {}", r.main_core)
+            } else {
+                format!(
+                    "two cores: main thread on core {}, helper on core {}",
+                    r.main_core, r.helper_core
+                )
+            });
+        }
     }
     let most = run.rows.iter().map(|r| r.samples).max().unwrap_or(0);
     let mut out = format!(
         "Latency run [`{}`]({link}) (`oceanbench latency`): {UNRECORDED} (the folder's README.md \
-         says how it was made); {}; up to {} round trips per row. Batched: the median of batches \
-         of round trips timed with one clock read each; p99: over trips timed one by one (clock \
-         reads included); CPU: both threads' CPU time per round trip; × floor: batched ÷ the \
-         {FLOOR}'s batched on the same cores.\n\n",
+         says how it was made); {}; up to {} round trips timed per row. Batched: the median of \
+         batches of round trips timed with one clock read each; p99: over trips timed one by one \
+         (clock reads included); CPU: both threads' CPU time per round trip; × floor: batched ÷ \
+         the {FLOOR}'s batched on the same cores.\n\n",
         run.name,
-        where_.join(", "),
+        placed.join("; "),
         grouped(most as f64, 0)
     );
     out.push_str(
