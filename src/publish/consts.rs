@@ -670,7 +670,7 @@ pub fn all() -> Vec<(&'static str, &'static str, String)> {
         (
             "fog_max_buffer_mib",
             "MiB of each of the two buffers of the largest fog volume",
-            (crate::workload::fog::volume_bytes(crate::workload::fog::MAX_VOLUME) / 2 >> 20)
+            ((crate::workload::fog::volume_bytes(crate::workload::fog::MAX_VOLUME) / 2) >> 20)
                 .to_string(),
         ),
         (
