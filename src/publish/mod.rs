@@ -398,7 +398,8 @@ fn slice_text(s: &Slice) -> String {
 
 /// One cell's number, or the range of several cells' (`cell="A;B;C"` gives `lo-hi`): `fps` (all
 /// frames ÷ all seconds, as the tables), `median` (median trial), `cv` (% spread), `spread`
-/// ((max − min) ÷ median, %), `one_percent_low`, `step_ms`, `frame_ms`, `frame_us`,
+/// ((max − min) ÷ median, %), `one_percent_low`, `step_ms`, `workload_ms`, `copy_ms`,
+/// `wait_ms` (the frame's breakdown, ms), `frame_ms`, `frame_us`,
 /// `wait_cpu_ms`, `wait_cpu_us` (every thread), `main_wait_cpu_us`, `helper_wait_cpu_us`,
 /// `repeated_percent` (frames that re-showed a mesh, `latest`), or
 /// a ratio of median trials against its twin: `dp_over_up`, `dp_over_serial`, `up_over_serial`.
@@ -518,6 +519,9 @@ fn stat_of<'a>(
         ),
         "one_percent_low" => (s.one_percent_low_fps, 0, vec![]),
         "step_ms" => (s.breakdown.step_ms, 2, vec![]),
+        "workload_ms" => (s.breakdown.workload_ms, 2, vec![]),
+        "copy_ms" => (s.breakdown.copy_ms, 3, vec![]),
+        "wait_ms" => (s.breakdown.wait_ms, 3, vec![]),
         "frame_ms" => (frame_ms, 2, vec![]),
         "frame_us" => (frame_ms * 1e3, 1, vec![]),
         "wait_cpu_ms" => (s.breakdown.wait_cpu_ms(), 3, vec![]),
@@ -554,7 +558,7 @@ fn stat_of<'a>(
         }
         other => {
             return Err(format!(
-                "stat: unknown `{other}` (allowed: fps, median, cv, spread, one_percent_low, step_ms, frame_ms, frame_us, wait_cpu_ms, wait_cpu_us, main_wait_cpu_us, helper_wait_cpu_us, repeated_percent, dp_over_up, dp_over_serial, up_over_serial)"
+                "stat: unknown `{other}` (allowed: fps, median, cv, spread, one_percent_low, step_ms, workload_ms, copy_ms, wait_ms, frame_ms, frame_us, wait_cpu_ms, wait_cpu_us, main_wait_cpu_us, helper_wait_cpu_us, repeated_percent, dp_over_up, dp_over_serial, up_over_serial)"
             ))
         }
     })
