@@ -108,6 +108,19 @@ fn bad_blocks_are_refused_with_their_file_and_line() {
             "<!-- ob:value run=quick-fixture cell=\"16 w0 serial neighbors reference\" over=\"a;b\" -->1<!-- /ob -->",
             "over= names 2 cell(s) and cell= 1",
         ),
+        (
+            "<!-- ob:grid run=quick-fixture rows=\"atomic\" cols=\"DP=16 w0 dp {} nowhere@fps\" -->\n<!-- /ob -->",
+            "row `atomic`, column `DP`: the run has no cell `16 w0 dp atomic nowhere`",
+        ),
+        (
+            "<!-- ob:grid run=quick-fixture rows=\"atomic;spin\" cols=\"DP=16 w0 dp {} nowhere@fps\" gaps=yes -->\n<!-- /ob -->",
+            "column `DP`: no row has a cell",
+        ),
+        (
+            "<!-- ob:config file=configs/none.json key=sizes -->1<!-- /ob -->",
+            "config file `configs/none.json`",
+        ),
+        ("<!-- ob:ref name=nothing -->1<!-- /ob -->", "docs/references.json"),
     ];
     for (block, needle) in cases {
         let text = format!("# x\n\n{block}\n");
@@ -162,4 +175,60 @@ fn findings_are_computed_from_the_results_file_alone() {
     let text = String::from_utf8_lossy(&text.stdout);
     assert!(text.starts_with("## Findings"), "{text}");
     assert!(text.contains("**sync atomic, threading pool**"), "{text}");
+}
+
+#[test]
+fn a_grid_reads_one_stat_of_each_row_and_column_cell() {
+    let readme = "# x\n\n<!-- ob:grid run=quick-fixture head=method rows=\"atomic;the spin=spin\" cols=\"UP=16 w0 up {} pool neighbors reference@fps;DP ÷ UP=16 w0 dp {} pool neighbors reference@dp_over_up\" -->\n<!-- /ob -->\n";
+    let root = checkout(readme);
+    let out = oceanbench_in(root.path(), &["docs", "--write"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let written = std::fs::read_to_string(root.path().join("README.md")).unwrap();
+    let results =
+        oceanbench::results::Results::load(&root.path().join("results/quick-fixture/results.json"))
+            .unwrap();
+    let fps = |label: &str| {
+        let c = results
+            .cells
+            .iter()
+            .find(|c| c.key.label() == label)
+            .unwrap();
+        c.summary.as_ref().unwrap().fps
+    };
+    let up = format!("{:.0}", fps("16 w0 up spin pool neighbors reference"));
+    let row = written
+        .lines()
+        .find(|l| l.starts_with("| the spin |"))
+        .unwrap_or_else(|| panic!("no row labelled `the spin`: {written}"));
+    assert!(row.starts_with(&format!("| the spin | {up}")), "{row}");
+    assert!(written.contains("| method | UP | DP ÷ UP |"), "{written}");
+    assert!(
+        written.contains("Every number in this table: tree unknown"),
+        "{written}"
+    );
+}
+
+#[test]
+fn a_number_outside_the_blocks_fails_the_check_unless_the_code_checks_it() {
+    let root = checkout("# x\n\nDP ran 1.74 × UP at 128×128 on workload 2 (Figure 5-1).\n");
+    let out = oceanbench_in(root.path(), &["docs", "--check"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    let named: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.contains("outside generated blocks"))
+        .collect();
+    assert_eq!(named.len(), 1, "only 1.74 is unchecked: {stderr}");
+    assert!(named[0].contains("README.md:3: 1.74"), "{stderr}");
+
+    let out = oceanbench_in(root.path(), &["docs", "--numbers"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(stdout.contains("128 (mesh size"), "{stdout}");
+    assert!(stdout.contains("2 (workload level"), "{stdout}");
+    assert!(stdout.contains("1.74 (UNCHECKED)"), "{stdout}");
 }

@@ -66,15 +66,33 @@ pub(super) fn docs(args: DocsArgs) -> Result<(), CliError> {
         println!("{} block(s) rewritten", stale.len());
         return Ok(());
     }
-    if stale.is_empty() {
-        println!("every generated block matches its run");
+    // Prose outside the blocks carries no measured number: one there is a failure too.
+    let mut loose = Vec::new();
+    for (file, outcome) in &outcomes {
+        for n in publish::loose::numbers(&outcome.text) {
+            if n.label.is_none() {
+                loose.push(format!(
+                    "{}:{}: {} sits outside generated blocks and is no label the code checks",
+                    file.display(),
+                    n.line,
+                    n.number
+                ));
+            }
+        }
+    }
+    if stale.is_empty() && loose.is_empty() {
+        println!("every generated block matches its run, and no number sits outside one");
         return Ok(());
     }
     for s in &stale {
         eprintln!("{s}: the block differs from what its run gives (run `oceanbench docs --write`)");
     }
+    for l in &loose {
+        eprintln!("{l}");
+    }
     Err(CliError::Run(anyhow::anyhow!(
-        "{} generated block(s) out of date",
-        stale.len()
+        "{} generated block(s) out of date, {} number(s) outside blocks",
+        stale.len(),
+        loose.len()
     )))
 }
