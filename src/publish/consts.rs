@@ -840,7 +840,12 @@ fn fraction(x: f64) -> String {
 /// A workload level as docs write it: `0 µs`, `0.7 × S40` (S40: the step of a 40×40 mesh), or
 /// its amount in a unit.
 fn level_text(level: &crate::config::Level) -> String {
-    match (level.micros, level.step_fraction, level.size, level.amount()) {
+    match (
+        level.micros,
+        level.step_fraction,
+        level.size,
+        level.amount(),
+    ) {
         (Some(us), _, _, _) => format!("{us} µs"),
         (_, Some(f), Some(n), _) => format!("{f} × S{n}"),
         (_, _, _, Some((unit, amount))) => format!("{amount} {unit}"),

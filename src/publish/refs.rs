@@ -59,6 +59,8 @@ mod tests {
         let before = names.len();
         names.dedup();
         assert_eq!(names.len(), before, "a name appears twice in {FILE}");
-        assert!(all.iter().all(|r| !r.value.is_empty() && !r.source.is_empty()));
+        assert!(all
+            .iter()
+            .all(|r| !r.value.is_empty() && !r.source.is_empty()));
     }
 }
