@@ -171,8 +171,26 @@ impl Context {
                     }
                     Ok(out)
                 } else if chosen.len() == 1 {
-                    let sentence = chosen[0].sentence.trim_end_matches('.').to_string();
-                    Ok(qualified(sentence, &[unknown]))
+                    let sentence = chosen[0].sentence.trim_end_matches('.');
+                    // A sentence that ends with its caveats takes the run's qualifier into
+                    // the same parenthesis: `(no per-trial records; tree unknown)`.
+                    let ends_with_caveats = sentence.strip_suffix(')').is_some_and(|s| {
+                        s.rsplit_once('(').is_some_and(|(_, last)| {
+                            last.split("; ").any(|part| {
+                                chosen[0]
+                                    .figures
+                                    .iter()
+                                    .any(|f| f.caveats.iter().any(|c| c == part))
+                            })
+                        })
+                    });
+                    match unknown {
+                        Some(note) if ends_with_caveats => Ok(format!(
+                            "{}; {note})",
+                            sentence.strip_suffix(')').unwrap_or(sentence)
+                        )),
+                        _ => Ok(qualified(sentence.to_string(), &[unknown])),
+                    }
                 } else {
                     Err(format!(
                         "an inline `findings` span must choose one finding; {} match (add id=, slice= or size=)",
