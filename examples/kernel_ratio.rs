@@ -200,7 +200,14 @@ fn print_row(row: &Row, ghz: f64) {
 
 /// The run's bench.json: per case and path, the median Mvertices/s of the rounds between the
 /// slowest and the fastest round.
-fn bench_run(rows: &[Row], n: usize, rounds: usize, isa: Isa, started: String) -> BenchRun {
+fn bench_run(
+    rows: &[Row],
+    n: usize,
+    rounds: usize,
+    isa: Isa,
+    started: String,
+    machine: Machine,
+) -> BenchRun {
     let estimates = rows
         .iter()
         .flat_map(|row| row.columns.iter().flatten().map(move |c| (row, c)))
@@ -217,7 +224,7 @@ fn bench_run(rows: &[Row], n: usize, rounds: usize, isa: Isa, started: String) -
         schema_version: SCHEMA_VERSION,
         name: "kernel_ratio".into(),
         started,
-        machine: Machine::current(),
+        machine,
         command: std::env::args().collect(),
         source: format!(
             "examples/kernel_ratio.rs on one pinned core, {n}×{n} grid, fast kernel ISA {}: \
@@ -246,6 +253,8 @@ fn main() {
             .find(|i| i.name() == name)
             .unwrap_or_else(|| panic!("isa {name}: not one of {:?}", Isa::available())),
     };
+    // Read before pinning: pinned, the process sees one core, and the run would say so.
+    let machine = Machine::current();
     if let Some(core) = core_affinity::get_core_ids().and_then(|c| c.into_iter().next()) {
         core_affinity::set_for_current(core);
     }
@@ -382,7 +391,7 @@ fn main() {
         print_row(row, ghz);
     }
     if let Some(dir) = &out {
-        bench_run(&results, n, rounds, isa, started)
+        bench_run(&results, n, rounds, isa, started, machine)
             .write(dir)
             .unwrap_or_else(|e| panic!("writing {}: {e}", dir.display()));
         println!("\nbench run: {}", dir.join("bench.json").display());
