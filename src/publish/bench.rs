@@ -40,7 +40,20 @@ fn rate(e: &BenchEstimate) -> String {
         return String::new();
     }
     match e.throughput {
-        Some(Throughput::Elements(n)) => format!("{:.0} M/s", n as f64 / e.value * 1e3),
+        Some(Throughput::Elements(n)) => {
+            let m = n as f64 / e.value * 1e3;
+            // Three significant figures, so a slow step's rate is not rounded to nothing.
+            let digits = if m >= 100.0 {
+                0
+            } else if m >= 10.0 {
+                1
+            } else if m >= 1.0 {
+                2
+            } else {
+                3
+            };
+            format!("{m:.digits$} M/s")
+        }
         Some(Throughput::Bytes(n)) => format!("{:.2} GB/s", n as f64 / e.value),
         None => String::new(),
     }
