@@ -63,11 +63,7 @@ fn rate(e: &BenchEstimate) -> String {
 /// ratio), or `ids=PREFIX,...` (a table of the estimates whose ids start with a prefix; all
 /// when absent).
 pub fn render(root: &Path, block: &Block, link: &str) -> Result<String, BlockError> {
-    let name = block
-        .attr("run")
-        .ok_or("`bench` needs run=NAME (a folder of results/)")?
-        .trim_end_matches('/')
-        .trim_start_matches("results/");
+    let name = super::run_name(block)?;
     let path = root.join("results").join(name);
     if !path.join(crate::bench_run::FILE_NAME).is_file() {
         return Err(format!(

@@ -65,12 +65,7 @@ impl Cores {
 }
 
 fn load(root: &Path, block: &Block) -> Result<Run, BlockError> {
-    let name = block
-        .attr("run")
-        .ok_or("`latency` needs run=NAME (a folder of results/)")?
-        .trim_end_matches('/')
-        .trim_start_matches("results/")
-        .to_string();
+    let name = super::run_name(block)?.to_string();
     let path = root.join("results").join(&name).join(FILE_NAME);
     if !path.is_file() {
         return Err(format!(

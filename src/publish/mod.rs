@@ -70,12 +70,7 @@ impl Context {
     }
 
     fn run(&mut self, block: &Block) -> Result<(&str, &Results, &Findings), BlockError> {
-        let name = block
-            .attr("run")
-            .ok_or_else(|| format!("`{}` needs run=NAME (a folder of results/)", block.kind))?
-            .trim_end_matches('/')
-            .trim_start_matches("results/")
-            .to_string();
+        let name = run_name(block)?.to_string();
         if !self.runs.contains_key(&name) {
             let path = self.root.join("results").join(&name);
             if !path.join("results.json").is_file() {
@@ -235,14 +230,22 @@ impl Context {
 
     /// The relative link from `file` to the block's run folder.
     fn link(&self, file: &Path, block: &Block) -> Result<String, BlockError> {
-        let name = block.attr("run").unwrap_or_default();
-        let name = name.trim_end_matches('/').trim_start_matches("results/");
+        let name = run_name(block).unwrap_or_default();
         let depth = file
             .parent()
             .and_then(|p| p.strip_prefix(&self.root).ok())
             .map_or(0, |p| p.components().count());
         Ok(format!("{}results/{name}/", "../".repeat(depth)))
     }
+}
+
+/// The folder under results/ a block's `run=` names (`results/` and a trailing `/` allowed).
+fn run_name(block: &Block) -> Result<&str, BlockError> {
+    Ok(block
+        .attr("run")
+        .ok_or_else(|| format!("`{}` needs run=NAME (a folder of results/)", block.kind))?
+        .trim_end_matches('/')
+        .trim_start_matches("results/"))
 }
 
 /// Why a run cannot be cited at all: it was made from a tree with uncommitted changes.
