@@ -2,7 +2,7 @@
 # Mutation testing of the modules that decide what users are told or guard their data: runs
 # cargo-mutants on each named source file (or folder) against the tests that cover it, and keeps
 # what it found as a small results folder, results/mutants-<UTC>/:
-#   summary.json  the commit and tree, and per module the counts (caught, missed, timeout,
+#   summary.json  per module its commit and tree, the counts (caught, missed, timeout,
 #                 unviable) with every survivor, explained or not;
 #   summary.md    the same as a table;
 #   <module>/     cargo-mutants' own outcomes (caught.txt, missed.txt, timeout.txt, unviable.txt).
@@ -10,7 +10,7 @@
 # cargo-mutants words it without line and column, then ` -- ` and why it changes nothing).
 #
 #   scripts/mutants.sh src/lock.rs src/slow_trials.rs
-#   OUT=results/mutants-x scripts/mutants.sh src/balance/
+#   OUT=results/mutants-x scripts/mutants.sh src/balance/   # adds a module to an earlier folder
 #
 # Slow (a build and the covering tests per mutant): run it on a schedule, not on every push
 # (docs/ci.md). Exit status: 0 when every survivor is explained, 1 when one is not, 2 on bad
@@ -50,6 +50,12 @@ tests_for() {
   printf '%s\n' "${args[@]}" | awk '!seen[$0]++'
 }
 
+# No debug info in the mutants' builds: each mutant is a build, and most of a dev build's link
+# time is debug info no mutant outcome needs.
+export CARGO_PROFILE_DEV_DEBUG="${CARGO_PROFILE_DEV_DEBUG:-0}"
+# JOBS=2 runs two mutants at once (each in its own copy of the tree).
+jobs="${JOBS:-1}"
+
 stamp="$(date -u +%Y%m%dT%H%M%SZ)"
 out="${OUT:-results/mutants-$stamp}"
 mkdir -p "$out"
@@ -64,7 +70,7 @@ for m in "$@"; do
   [ -d "$m" ] && glob="${m%/}/**/*.rs"
   echo "== $m: cargo test ${targets[*]}" >&2
   # cargo-mutants exits 2 when a mutant survives, 3 on a timeout: outcomes are what count here.
-  cargo mutants --no-shuffle -f "$glob" --output "$out/$name.tmp" \
+  cargo mutants --no-shuffle -j "$jobs" -f "$glob" --output "$out/$name.tmp" \
     --minimum-test-timeout 30 -- "${targets[@]}" >&2 || true
   rm -rf "${out:?}/$name"
   mv "$out/$name.tmp/mutants.out" "$out/$name"
@@ -72,11 +78,15 @@ for m in "$@"; do
   # Only the small outcome lists are kept; the logs and diffs stay out of results/.
   find "$out/$name" -mindepth 1 -not -name '*.txt' -not -name outcomes.json -exec rm -rf {} +
   rm -f "$out/$name/outcomes.json"
+  # A folder gathers modules run at different times (OUT= the same folder): each keeps its commit.
+  printf '%s%s\n' "$commit" "$([ "$dirty" = true ] && echo ' dirty')" >"$out/$name/commit"
 done
 
-python3 - "$out" "$commit" "$dirty" "$@" <<'EOF' || status=$?
+python3 - "$out" <<'EOF' || status=$?
 import json, re, sys, pathlib
-out, commit, dirty, modules = pathlib.Path(sys.argv[1]), sys.argv[2], sys.argv[3] == "true", sys.argv[4:]
+out = pathlib.Path(sys.argv[1])
+# Every module run into this folder so far, this call's and earlier ones'.
+modules = sorted(d.name for d in out.iterdir() if (d / "commit").exists())
 equivalent = {}
 for line in pathlib.Path("scripts/mutants-equivalent.txt").read_text().splitlines():
     if line.strip() and not line.startswith("#"):
@@ -90,28 +100,29 @@ def key(mutant):
 def lines(path):
     return [l for l in path.read_text().splitlines() if l.strip()] if path.exists() else []
 
-summary = {"commit": commit, "dirty": dirty, "modules": []}
+summary = {"modules": []}
 unexplained = 0
-for m in modules:
-    name = re.sub(r"\.rs$", "", m.rstrip("/").removeprefix("src/").replace("/", "-"))
+for name in modules:
     d = out / name
+    commit, _, dirty = (d / "commit").read_text().strip().partition(" ")
     caught, missed = lines(d / "caught.txt"), lines(d / "missed.txt")
     timeout, unviable = lines(d / "timeout.txt"), lines(d / "unviable.txt")
     survivors = [{"mutant": s, "equivalent": equivalent.get(key(s))} for s in missed + timeout]
     unexplained += sum(1 for s in survivors if s["equivalent"] is None)
     viable = len(caught) + len(missed) + len(timeout)
     summary["modules"].append({
-        "module": m, "caught": len(caught), "missed": len(missed), "timeout": len(timeout),
+        "module": name, "commit": commit, "dirty": dirty == "dirty", "caught": len(caught), "missed": len(missed), "timeout": len(timeout),
         "unviable": len(unviable),
         "caught_percent": round(100 * len(caught) / viable, 1) if viable else None,
         "survivors": survivors,
     })
 (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
-md = [f"# Mutants at {commit[:12]}{' (dirty tree)' if dirty else ''}", "",
-      "| module | caught | missed | timeout | unviable | caught of viable |", "|---|---:|---:|---:|---:|---:|"]
+md = ["# Mutants", "",
+      "| module | commit | caught | missed | timeout | unviable | caught of viable |", "|---|---|---:|---:|---:|---:|---:|"]
 for m in summary["modules"]:
     pct = "–" if m["caught_percent"] is None else f"{m['caught_percent']} %"
-    md.append(f"| {m['module']} | {m['caught']} | {m['missed']} | {m['timeout']} | {m['unviable']} | {pct} |")
+    tree = m["commit"][:12] + (" (dirty tree)" if m["dirty"] else "")
+    md.append(f"| {m['module']} | {tree} | {m['caught']} | {m['missed']} | {m['timeout']} | {m['unviable']} | {pct} |")
 md += ["", "Survivors:", ""]
 for m in summary["modules"]:
     for s in m["survivors"]:
