@@ -35,7 +35,7 @@ for m in "$@"; do
   esac
 done
 
-# The test targets that cover a module: the library's unit tests, and every integration test
+# The test targets that cover a module, one `--test=NAME` word each: the library's unit tests, and every integration test
 # that names the module's path (oceanbench::lock, oceanbench::balance...); the lock tests drive
 # the binary and name no path, so they are added by name.
 tests_for() {
@@ -43,10 +43,10 @@ tests_for() {
   name="$(basename "${module%/}" .rs)"
   for t in tests/*.rs; do
     if grep -q "oceanbench::$name\b\|crate::$name\b" "$t"; then
-      args+=(--test "$(basename "$t" .rs)")
+      args+=("--test=$(basename "$t" .rs)")
     fi
   done
-  [ "$name" != lock ] || args+=(--test locks)
+  [ "$name" != lock ] || args+=(--test=locks)
   printf '%s\n' "${args[@]}" | awk '!seen[$0]++'
 }
 
@@ -69,8 +69,10 @@ for m in "$@"; do
   glob="$m"
   [ -d "$m" ] && glob="${m%/}/**/*.rs"
   echo "== $m: cargo test ${targets[*]}" >&2
+  # --copy-vcs: tests read git (a run's provenance). Each mutant builds in a copy taken when
+  # the module starts, so run this from a tree nobody edits meanwhile (a `git worktree`).
   # cargo-mutants exits 2 when a mutant survives, 3 on a timeout: outcomes are what count here.
-  cargo mutants --no-shuffle -j "$jobs" -f "$glob" --output "$out/$name.tmp" \
+  cargo mutants --no-shuffle --copy-vcs=true -j "$jobs" -f "$glob" --output "$out/$name.tmp" \
     --minimum-test-timeout 30 -- "${targets[@]}" >&2 || true
   rm -rf "${out:?}/$name"
   mv "$out/$name.tmp/mutants.out" "$out/$name"
