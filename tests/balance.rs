@@ -3,6 +3,9 @@
 //! with every probe, CSV, markdown, chart) holds it, `compare` reads it, and bad input exits 2
 //! with one line.
 
+mod common;
+
+use common::{assert_one_line_exit_2, oceanbench};
 use oceanbench::affinity;
 use oceanbench::balance::{self, BalanceSettings, Testbed};
 use oceanbench::cell::{Axes, CellKey};
@@ -11,15 +14,6 @@ use oceanbench::measure::{FrameRecord, Trial};
 use oceanbench::placement::Class;
 use oceanbench::report::compare::{self, Metric};
 use oceanbench::results::Results;
-use std::process::{Command, Output};
-
-fn oceanbench(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oceanbench"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the binary runs")
-}
 
 /// A machine answered from a model instead of the scheduler: the helper's step is 100 µs on
 /// near cores and 60 µs on far ones, the threads overlap perfectly in DP, and the round trip is
@@ -295,11 +289,7 @@ fn bad_balance_input_exits_2_with_one_line() {
         let out = dir.path().join(format!("x{}", args.len()));
         let mut all = vec!["balance", "--out", out.to_str().unwrap()];
         all.extend(&args);
-        let run = oceanbench(&all);
-        let stderr = String::from_utf8_lossy(&run.stderr);
-        assert_eq!(run.status.code(), Some(2), "{args:?}: {stderr}");
-        assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: {stderr}");
-        assert!(stderr.contains(needle), "{args:?}: {stderr}");
+        assert_one_line_exit_2(&oceanbench(&all), &[needle]);
     }
 }
 

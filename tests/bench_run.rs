@@ -1,19 +1,14 @@
 //! Benchmark runs: `bench-record` reads only the criterion estimates written since its stamp,
 //! a run reads back as written, and bad input exits 2 with one line.
 
+mod common;
+
+use common::{assert_one_line_exit_2, oceanbench};
 use oceanbench::bench_run::{BenchEstimate, BenchRun, Throughput, SCHEMA_VERSION};
 use oceanbench::machine::Machine;
 use std::fs::File;
 use std::path::Path;
-use std::process::{Command, Output};
 use std::time::{Duration, SystemTime};
-
-fn oceanbench(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oceanbench"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
 
 /// Writes criterion 0.5's two files for one benchmark under `root/<dir>/new/`, dated `when`.
 fn fake_bench(root: &Path, dir: &str, full_id: &str, median: [f64; 3], when: SystemTime) {
@@ -69,15 +64,6 @@ fn fake_bench(root: &Path, dir: &str, full_id: &str, median: [f64; 3], when: Sys
 fn stamp(path: &Path, when: SystemTime) -> String {
     File::create(path).unwrap().set_modified(when).unwrap();
     path.to_string_lossy().into_owned()
-}
-
-/// Asserts exit status 2 and a single stderr line containing `needle`.
-fn assert_input_error(args: &[&str], needle: &str) {
-    let out = oceanbench(args);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-    assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: {stderr}");
-    assert!(stderr.contains(needle), "{stderr:?} lacks {needle:?}");
 }
 
 #[test]
@@ -147,7 +133,7 @@ fn bench_record_keeps_only_estimates_written_since_the_stamp() {
     assert!(run.estimate("heights/old").is_none());
 
     // The folder is not written twice.
-    assert_input_error(&args, "already holds bench.json");
+    assert_one_line_exit_2(&oceanbench(&args), &["already holds bench.json"]);
 }
 
 #[test]
@@ -210,13 +196,19 @@ fn bad_input_exits_2_with_one_line() {
             out,
         ]
     };
-    assert_input_error(&record("fft", dir, &later), "no criterion estimates");
-    let missing = tmp.path().join("nowhere");
-    assert_input_error(
-        &record("fft", missing.to_str().unwrap(), &later),
-        "--criterion-dir",
+    assert_one_line_exit_2(
+        &oceanbench(&record("fft", dir, &later)),
+        &["no criterion estimates"],
     );
-    assert_input_error(&record("fft", dir, missing.to_str().unwrap()), "--since");
-    assert_input_error(&record("../fft", dir, &later), "NAME");
+    let missing = tmp.path().join("nowhere");
+    assert_one_line_exit_2(
+        &oceanbench(&record("fft", missing.to_str().unwrap(), &later)),
+        &["--criterion-dir"],
+    );
+    assert_one_line_exit_2(
+        &oceanbench(&record("fft", dir, missing.to_str().unwrap())),
+        &["--since"],
+    );
+    assert_one_line_exit_2(&oceanbench(&record("../fft", dir, &later)), &["NAME"]);
     assert!(!Path::new(out).exists());
 }

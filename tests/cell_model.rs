@@ -5,6 +5,9 @@
 //! Also the two bugs that motivated the cell model (the CSV and `compare --by mode` ignored
 //! `helpers`), and old results files loading.
 
+mod common;
+
+use common::fixture;
 use oceanbench::cell::{Axes, Dim, Value};
 use oceanbench::config::SweepConfig;
 use oceanbench::measure::{FrameRecord, Summary, Trial};
@@ -14,7 +17,6 @@ use oceanbench::report::compare::{self, Metric};
 use oceanbench::report::{csv, markdown};
 use oceanbench::results::{Cell, CellKey, Pins, Results};
 use serde_json::json;
-use std::path::Path;
 
 /// Two values of `dim` and config keys under which cells with both can run. Every dimension
 /// must have an entry: a new one fails `every_dimension_has_test_values` until it is added here.
@@ -122,8 +124,7 @@ fn cell(key: CellKey, fps: f64) -> Cell {
 
 /// A results file holding `cells` under `config`, on the fixture's machine.
 fn results(config: SweepConfig, cells: Vec<Cell>) -> Results {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json");
-    let template = Results::load(&path).expect("fixture loads");
+    let template = fixture();
     Results {
         schema_version: oceanbench::results::SCHEMA_VERSION,
         config,
@@ -408,8 +409,7 @@ fn compare_by_mode_pairs_equal_helper_counts_only() {
 
 #[test]
 fn results_written_before_helpers_existed_still_load() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json");
-    let old = Results::load(&path).unwrap();
+    let old = fixture();
     assert!(!old.cells.is_empty());
     for c in &old.cells {
         match c.key.is_serial() {

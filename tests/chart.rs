@@ -1,19 +1,16 @@
 //! Charts drawn from a real results file: the files exist, decode, and show every series.
 
+mod common;
+
+use common::fixture;
 use oceanbench::cell::{Axes, Dim, Value};
 use oceanbench::config::{Level, SweepConfig};
 use oceanbench::frame_loop::Consume;
 use oceanbench::frame_loop::Mode;
 use oceanbench::report::chart::{self, ChartFormat, ChartOptions, CHARTS, CHART_SIZE};
-use oceanbench::results::Results;
 use oceanbench::sweep::Sweep;
 use oceanbench::sync::SyncMethod;
 use std::path::{Path, PathBuf};
-
-fn fixture() -> Results {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json");
-    Results::load(&path).expect("fixture loads")
-}
 
 fn png_size(path: &Path) -> (u32, u32) {
     let decoder = png::Decoder::new(std::fs::File::open(path).unwrap());

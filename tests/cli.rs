@@ -1,34 +1,14 @@
 //! The binary as a user meets it: bad input exits 2 with one line, the mesh CSV, a tiny sweep's
 //! files, and the shipped configs.
 
+mod common;
+
+use common::{assert_success, oceanbench, refuses, FIXTURE};
 use oceanbench::config::SweepConfig;
 use oceanbench::ocean::{FftParams, Grid, Kernel, NormalMethod, OceanKind, OceanParams, WaveSet};
 use oceanbench::results::Results;
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn oceanbench(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oceanbench"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the binary runs")
-}
-
-/// Asserts exit status 2 and a single stderr line containing every `needle`.
-fn assert_input_error(args: &[&str], needles: &[&str]) {
-    let out = oceanbench(args);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-    assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: {stderr}");
-    for needle in needles {
-        assert!(
-            stderr.contains(needle),
-            "{args:?}: {stderr:?} lacks {needle:?}"
-        );
-    }
-    assert!(!stderr.contains("panicked"), "{stderr}");
-}
+use std::process::Command;
 
 fn write(dir: &Path, name: &str, text: &str) -> String {
     let path = dir.join(name);
@@ -38,22 +18,22 @@ fn write(dir: &Path, name: &str, text: &str) -> String {
 
 #[test]
 fn bad_flags_exit_2_with_one_line() {
-    assert_input_error(&["run", "--mode", "tri"], &["--mode", "serial, up, dp"]);
-    assert_input_error(&["run", "--sync", "futexes"], &["--sync", "futex"]);
-    assert_input_error(&["run", "--normals", "x"], &["lookup, neighbors, analytic"]);
-    assert_input_error(&["run", "--ocean", "nope"], &["--ocean", "nope", "sines"]);
-    assert_input_error(&["run", "--size", "1"], &["size", "2 to"]);
-    assert_input_error(&["run", "--size", "abc"], &["--size"]);
-    assert_input_error(&["run", "--workload", "9"], &["workloads", "0 to 3"]);
-    assert_input_error(&["run", "--trials", "0"], &["trials"]);
-    assert_input_error(&["run", "--cores", "0,999"], &["cores", "allowed"]);
-    assert_input_error(
+    refuses(&["run", "--mode", "tri"], &["--mode", "serial, up, dp"]);
+    refuses(&["run", "--sync", "futexes"], &["--sync", "futex"]);
+    refuses(&["run", "--normals", "x"], &["lookup, neighbors, analytic"]);
+    refuses(&["run", "--ocean", "nope"], &["--ocean", "nope", "sines"]);
+    refuses(&["run", "--size", "1"], &["size", "2 to"]);
+    refuses(&["run", "--size", "abc"], &["--size"]);
+    refuses(&["run", "--workload", "9"], &["workloads", "0 to 3"]);
+    refuses(&["run", "--trials", "0"], &["trials"]);
+    refuses(&["run", "--cores", "0,999"], &["cores", "allowed"]);
+    refuses(
         &["run", "--normals", "lookup", "--size", "300"],
         &["lookup"],
     );
-    assert_input_error(&["run", "--bogus"], &["--bogus"]);
-    assert_input_error(&["fly"], &["fly"]);
-    assert_input_error(
+    refuses(&["run", "--bogus"], &["--bogus"]);
+    refuses(&["fly"], &["fly"]);
+    refuses(
         &[
             "mesh",
             "--size",
@@ -68,7 +48,7 @@ fn bad_flags_exit_2_with_one_line() {
         &["/nonexistent.json"],
     );
     let mesh = ["mesh", "--size", "4", "--time", "1", "--out", "/tmp/x.csv"];
-    assert_input_error(
+    refuses(
         &[&mesh[..], &["--ocean", "nope"]].concat(),
         &["--ocean", "nope", "sines"],
     );
@@ -170,13 +150,13 @@ fn bad_configs_exit_2_naming_the_field() {
     for (i, (text, needles)) in cases.iter().enumerate() {
         let path = write(dir.path(), &format!("bad{i}.json"), text);
         let out = dir.path().join(format!("out{i}"));
-        assert_input_error(&["sweep", &path, "--out", out.to_str().unwrap()], needles);
+        refuses(&["sweep", &path, "--out", out.to_str().unwrap()], needles);
         assert!(
             !out.join("results.json").exists(),
             "nothing is written for a bad config"
         );
     }
-    assert_input_error(
+    refuses(
         &["sweep", "/nonexistent/config.json"],
         &["/nonexistent/config.json"],
     );
@@ -189,11 +169,7 @@ where
 {
     let csv = dir.join("mesh.csv");
     let out = oceanbench(&[&["mesh"], args, &["--out", csv.to_str().unwrap()]].concat());
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.lines();
     let header = lines.next().unwrap_or_default().to_string();
@@ -261,14 +237,14 @@ fn fft_bad_input_exits_2_with_one_line_and_keeps_the_output_file() {
         ("8", "16"),
         ("5000", "4096"),
     ] {
-        assert_input_error(&mesh(size), &["size", "2, 3 and 5", nearest]);
+        refuses(&mesh(size), &["size", "2, 3 and 5", nearest]);
     }
-    assert_input_error(
+    refuses(
         &[&mesh("64")[..], &["--normals", "lookup"]].concat(),
         &["normals", "analytic", "neighbors"],
     );
     // The fft ocean offers both kernels: a kernel that is no kernel is refused with them.
-    assert_input_error(
+    refuses(
         &[&mesh("64")[..], &["--kernel", "turbo"]].concat(),
         &["kernel", "reference", "fast"],
     );
@@ -285,11 +261,11 @@ fn fft_bad_input_exits_2_with_one_line_and_keeps_the_output_file() {
         ("[1]", "fft_params"),
     ] {
         let file = params("p.json", text);
-        assert_input_error(
+        refuses(
             &[&mesh("64")[..], &["--fft-params", &file]].concat(),
             &[field],
         );
-        assert_input_error(
+        refuses(
             &[
                 "run",
                 "--ocean",
@@ -302,17 +278,17 @@ fn fft_bad_input_exits_2_with_one_line_and_keeps_the_output_file() {
             &[field],
         );
     }
-    assert_input_error(
+    refuses(
         &[&mesh("64")[..], &["--fft-params", "/nonexistent/p.json"]].concat(),
         &["/nonexistent/p.json"],
     );
     assert_eq!(std::fs::read_to_string(out).unwrap(), "kept");
 
-    assert_input_error(
+    refuses(
         &["run", "--ocean", "fft", "--size", "97"],
         &["size", "96, 100"],
     );
-    assert_input_error(
+    refuses(
         &[
             "run",
             "--ocean",
@@ -324,7 +300,7 @@ fn fft_bad_input_exits_2_with_one_line_and_keeps_the_output_file() {
         ],
         &["normals", "lookup"],
     );
-    assert_input_error(
+    refuses(
         &[
             "run",
             "--ocean",
@@ -342,7 +318,7 @@ fn fft_bad_input_exits_2_with_one_line_and_keeps_the_output_file() {
         "c.json",
         r#"{"ocean": ["fft"], "sizes": [64], "fft_params": "missing.json"}"#,
     );
-    assert_input_error(&["sweep", &config], &["fft_params", "missing.json"]);
+    refuses(&["sweep", &config], &["fft_params", "missing.json"]);
 }
 
 #[test]
@@ -413,11 +389,7 @@ fn a_tiny_sweep_writes_json_csv_and_markdown() {
     let out = dir.path().join("run");
     let status = oceanbench(&["sweep", &config, "--out", out.to_str().unwrap(), "--quiet"]);
     let stdout = String::from_utf8_lossy(&status.stdout);
-    assert!(
-        status.status.success(),
-        "{}",
-        String::from_utf8_lossy(&status.stderr)
-    );
+    assert_success(&status);
     assert!(stdout.contains("| mesh | workload | serial | UP | DP | DP÷UP | DP÷serial |"));
     let results = Results::load(&out).unwrap();
     // 2 sizes × 2 workloads × (serial + 2 methods × (up + dp)).
@@ -437,7 +409,7 @@ fn a_tiny_sweep_writes_json_csv_and_markdown() {
     assert!(md.contains("12×12") && md.contains("condvar"));
     // A second sweep into the same directory is refused and keeps the first results whole.
     let before = std::fs::read(out.join("results.json")).unwrap();
-    assert_input_error(
+    refuses(
         &["sweep", &config, "--out", out.to_str().unwrap()],
         &["already holds"],
     );
@@ -446,7 +418,7 @@ fn a_tiny_sweep_writes_json_csv_and_markdown() {
 
 #[test]
 fn shipped_configs_are_valid_and_figure_5_1_is_the_default() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("configs");
+    let root = common::root().join("configs");
     let figure = SweepConfig::load(&root.join("figure-5-1.json")).unwrap();
     let default = SweepConfig::default();
     assert_eq!(
@@ -471,7 +443,7 @@ fn shipped_configs_are_valid_and_figure_5_1_is_the_default() {
 #[test]
 fn help_shows_examples() {
     let out = oceanbench(&["--help"]);
-    assert!(out.status.success());
+    assert_success(&out);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("Examples:") && text.contains("oceanbench sweep"));
 }
@@ -487,8 +459,7 @@ fn sigterm_keeps_finished_cells_and_prints_the_resume_command() {
             "min_seconds": 0.15, "workload_levels": [{"micros": 0}]}"#,
     );
     let out = dir.path().join("run");
-    let child = Command::new(env!("CARGO_BIN_EXE_oceanbench"))
-        .args(["sweep", &config, "--out", out.to_str().unwrap(), "--quiet"])
+    let child = common::command(&["sweep", &config, "--out", out.to_str().unwrap(), "--quiet"])
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
@@ -521,11 +492,7 @@ fn sigterm_keeps_finished_cells_and_prints_the_resume_command() {
         "--quiet",
         "--no-charts",
     ]);
-    assert!(
-        resumed.status.success(),
-        "{}",
-        String::from_utf8_lossy(&resumed.stderr)
-    );
+    assert_success(&resumed);
     let done = Results::load(&out).unwrap();
     assert_eq!(done.cells.len(), 8 * 3);
     assert!(done.finished.is_some());
@@ -548,7 +515,7 @@ fn sigterm_keeps_finished_cells_and_prints_the_resume_command() {
         "other.json",
         r#"{"name": "long", "sizes": [8]}"#,
     );
-    assert_input_error(
+    refuses(
         &["sweep", &other, "--resume", out.to_str().unwrap()],
         &["differs", "sizes"],
     );
@@ -565,11 +532,7 @@ fn latency_lists_the_floor_and_every_method_on_each_placement() {
         "--json",
         json.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let text = String::from_utf8_lossy(&out.stdout);
     let rows: Vec<serde_json::Value> =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
@@ -604,25 +567,18 @@ fn latency_lists_the_floor_and_every_method_on_each_placement() {
             assert!(r["cpu_ns"].as_f64().unwrap() > 0.0, "{r}");
         }
     }
-    assert_input_error(&["latency", "--samples", "0"], &["--samples"]);
+    refuses(&["latency", "--samples", "0"], &["--samples"]);
 }
 
 #[test]
 fn compare_exits_0_unchanged_1_regressed_2_bad_input() {
-    let fixture = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json");
-    let fixture = fixture.to_str().unwrap();
+    let fixture = FIXTURE;
     let same = oceanbench(&["compare", fixture, fixture, "--format", "markdown"]);
     assert_eq!(same.status.code(), Some(0));
     assert!(String::from_utf8_lossy(&same.stdout).contains("0 regressed"));
     let dir = tempfile::tempdir().unwrap();
     // The fixture's two trials a cell are too few for a verdict: give both sides five.
-    let mut five = Results::load(Path::new(fixture)).unwrap();
-    for c in &mut five.cells {
-        if let Some(s) = c.summary.as_mut() {
-            let f = s.fps;
-            s.fps_trials = [0.99, 0.995, 1.0, 1.005, 1.01].map(|k| f * k).to_vec();
-        }
-    }
+    let five = common::five_trials();
     let five_path = dir.path().join("five.json");
     std::fs::write(&five_path, serde_json::to_string(&five).unwrap()).unwrap();
     let two_trials = fixture;
@@ -660,17 +616,17 @@ fn compare_exits_0_unchanged_1_regressed_2_bad_input() {
         "two trials a side never fail CI"
     );
     assert!(String::from_utf8_lossy(&out.stdout).contains("too few trials"));
-    assert_input_error(
+    refuses(
         &["compare", fixture, "/nonexistent.json"],
         &["/nonexistent.json"],
     );
-    assert_input_error(
+    refuses(
         &["compare", fixture, fixture, "--threshold=-3"],
         &["--threshold"],
     );
-    assert_input_error(&["compare", fixture], &["--by"]);
+    refuses(&["compare", fixture], &["--by"]);
     let notes = write(dir.path(), "notes.json", r#"{"hello": 1}"#);
-    assert_input_error(
+    refuses(
         &["compare", &notes, fixture],
         &["not an oceanbench results file"],
     );
@@ -679,54 +635,42 @@ fn compare_exits_0_unchanged_1_regressed_2_bad_input() {
 #[test]
 fn chart_redraws_from_a_results_file_and_refuses_bad_paths() {
     let dir = tempfile::tempdir().unwrap();
-    let fixture = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json");
     let out = oceanbench(&[
         "chart",
-        fixture.to_str().unwrap(),
+        FIXTURE,
         "--out",
         dir.path().to_str().unwrap(),
         "--format",
         "svg",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     for name in ["figure-5-1", "relative", "sync", "frame-times", "breakdown"] {
         assert!(dir.path().join(format!("{name}.svg")).exists(), "{name}");
     }
-    assert_input_error(
+    refuses(
         &["chart", "/nonexistent/results"],
         &["/nonexistent/results"],
     );
     let notes = write(dir.path(), "notes.json", "[1, 2, 3]");
-    assert_input_error(&["chart", &notes], &["not an oceanbench results file"]);
-    assert_input_error(
-        &["chart", fixture.to_str().unwrap(), "--format", "gif"],
-        &["png, svg"],
-    );
+    refuses(&["chart", &notes], &["not an oceanbench results file"]);
+    refuses(&["chart", FIXTURE, "--format", "gif"], &["png, svg"]);
 }
 
 /// A chart filter no cell has, and `balance --workload` (the search sets the workload), are
 /// refused with the values that would work.
 #[test]
 fn filters_that_would_draw_nothing_are_refused() {
-    let fixture = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/fixtures/quick-results.json"
-    );
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().to_str().unwrap();
-    assert_input_error(
-        &["chart", fixture, "--sync", "flume", "--out", out],
+    refuses(
+        &["chart", FIXTURE, "--sync", "flume", "--out", out],
         &["--sync", "flume", "atomic", "condvar-std"],
     );
     assert!(
         std::fs::read_dir(dir.path()).unwrap().next().is_none(),
         "no empty chart written"
     );
-    assert_input_error(&["balance", "--workload", "2"], &["--workload", "--range"]);
+    refuses(&["balance", "--workload", "2"], &["--workload", "--range"]);
 }
 
 /// A trial cut short by the time cap says so on stderr instead of capping --frames silently.
@@ -773,7 +717,7 @@ fn bad_particle_counts_exit_2_with_one_line_and_keep_what_was_written() {
     ] {
         let mut args = SPRAY.to_vec();
         args.extend(["--particles", particles, "--out", &out]);
-        assert_input_error(&args, &needles);
+        refuses(&args, &needles);
     }
     assert_eq!(
         std::fs::read_to_string(&kept).unwrap(),
@@ -781,12 +725,12 @@ fn bad_particle_counts_exit_2_with_one_line_and_keep_what_was_written() {
     );
     let mut micros = SPRAY.to_vec();
     micros.extend(["--workload-micros", "100"]);
-    assert_input_error(&micros, &["--workload-micros", "--particles N"]);
-    assert_input_error(
+    refuses(&micros, &["--workload-micros", "--particles N"]);
+    refuses(
         &["run", "--particles", "1000"],
         &["--particles", "--workload-kind spray"],
     );
-    assert_input_error(
+    refuses(
         &["run", "--workload-kind", "spray", "--ocean", "sines"],
         &["spray needs the fft ocean's folds", "sines"],
     );
@@ -868,7 +812,7 @@ fn bad_spray_configs_exit_2_naming_the_field() {
         } else {
             path
         };
-        assert_input_error(&["sweep", &path, "--out", "/nonexistent/never"], &needles);
+        refuses(&["sweep", &path, "--out", "/nonexistent/never"], &needles);
     }
 }
 

@@ -1,34 +1,19 @@
 //! Noise-aware comparisons on the quick fixture and on hand-made trials: verdicts, unmatched and
 //! failed cells, within-run ranking, errors and the three renderings.
 
+mod common;
+
+use common::{five_trials, fixture, oceanbench};
 use oceanbench::cell::Dim;
 use oceanbench::report::compare::{self, CompareError, Comparison, Metric, Verdict};
 use oceanbench::results::{Cell, Results};
 use std::path::Path;
-
-fn fixture() -> Results {
-    Results::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json"))
-        .expect("the fixture loads")
-}
 
 /// Sets a cell's trials and headline FPS as a run would have measured them.
 fn set_trials(cell: &mut Cell, trials: &[f64]) {
     let s = cell.summary.as_mut().expect("a measured cell");
     s.fps_trials = trials.to_vec();
     s.fps = trials.iter().sum::<f64>() / trials.len() as f64;
-}
-
-/// The fixture with five trials per cell (its own two are too few for a verdict): each cell's
-/// headline FPS times 0.99, 0.995, 1, 1.005 and 1.01.
-fn five_trials() -> Results {
-    let mut r = fixture();
-    for c in &mut r.cells {
-        if let Some(s) = c.summary.as_mut() {
-            let f = s.fps;
-            s.fps_trials = [0.99, 0.995, 1.0, 1.005, 1.01].map(|k| f * k).to_vec();
-        }
-    }
-    r
 }
 
 fn one_cell(results: &Results, trials: &[f64]) -> Results {
@@ -444,13 +429,6 @@ fn write(dir: &Path, name: &str, r: &Results) -> std::path::PathBuf {
     p
 }
 
-fn oceanbench(args: &[&std::ffi::OsStr]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_oceanbench"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
 /// The command's exit statuses: 2 when nothing was compared (CI must not pass vacuously), a
 /// warning and exit 0 for runs that are not like for like, exit 2 for them with --strict.
 #[test]
@@ -514,10 +492,7 @@ fn five_trials_a_side_is_the_documented_minimum() {
         compare::between(&five(100.0), &five(50.0), 5.0, Metric::Fps).changes[0].verdict,
         Verdict::Regressed
     );
-    let help = std::process::Command::new(env!("CARGO_BIN_EXE_oceanbench"))
-        .args(["compare", "--help"])
-        .output()
-        .unwrap();
+    let help = oceanbench(&["compare", "--help"]);
     let help = String::from_utf8_lossy(&help.stdout);
     assert!(help.contains("fewer than 5"), "{help}");
 }
@@ -609,7 +584,7 @@ fn a_failure_on_both_sides_is_listed_once() {
 /// that `docs --check` holds to the config and the code, and the config gives a verdict.
 #[test]
 fn the_ci_docs_match_the_ci_config() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = common::root();
     let config: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(root.join("configs/ci.json")).unwrap())
             .unwrap();

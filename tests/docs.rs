@@ -3,18 +3,11 @@
 
 mod common;
 
-use common::{assert_input_error, oceanbench, oceanbench_in};
-use std::path::Path;
+use common::{assert_input_error, assert_success, oceanbench, oceanbench_in, refuses, FIXTURE};
 
 #[test]
 fn every_published_block_matches_its_committed_run() {
-    let out = oceanbench(&["docs", "--check"]);
-    assert!(
-        out.status.success(),
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&oceanbench(&["docs", "--check"]));
 }
 
 /// A checkout of one run (the quick fixture) and a README citing it.
@@ -23,11 +16,7 @@ fn checkout(readme: &str) -> tempfile::TempDir {
     let run = root.path().join("results/quick-fixture");
     std::fs::create_dir_all(&run).unwrap();
     std::fs::create_dir_all(root.path().join("docs")).unwrap();
-    std::fs::copy(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json"),
-        run.join("results.json"),
-    )
-    .unwrap();
+    std::fs::copy(FIXTURE, run.join("results.json")).unwrap();
     std::fs::write(root.path().join("README.md"), readme).unwrap();
     root
 }
@@ -38,7 +27,7 @@ const README: &str = "# x\n\nSerial runs <!-- ob:value run=quick-fixture cell=\"
 fn a_changed_value_in_a_run_fails_the_check() {
     let root = checkout(README);
     let dir = root.path();
-    assert!(oceanbench_in(dir, &["docs", "--write"]).status.success());
+    assert_success(&oceanbench_in(dir, &["docs", "--write"]));
     let written = std::fs::read_to_string(dir.join("README.md")).unwrap();
     assert!(
         !written.contains("-->0<!--"),
@@ -56,7 +45,7 @@ fn a_changed_value_in_a_run_fails_the_check() {
         written.contains("-->1.00 (tree unknown"),
         "a cell over itself: {written}"
     );
-    assert!(oceanbench_in(dir, &["docs", "--check"]).status.success());
+    assert_success(&oceanbench_in(dir, &["docs", "--check"]));
 
     // One FPS of the run changes: the check names the block's file and line.
     let path = dir.join("results/quick-fixture/results.json");
@@ -140,19 +129,16 @@ fn bad_blocks_are_refused_with_their_file_and_line() {
 #[test]
 fn findings_of_a_folder_without_results_is_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let out = oceanbench(&["findings", dir.path().to_str().unwrap()]);
-    assert_input_error(&out, &["results.json"]);
+    refuses(
+        &["findings", dir.path().to_str().unwrap()],
+        &["results.json"],
+    );
 }
 
 #[test]
 fn findings_are_computed_from_the_results_file_alone() {
-    let fixture = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json");
-    let out = oceanbench(&["findings", fixture.to_str().unwrap(), "--json"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = oceanbench(&["findings", FIXTURE, "--json"]);
+    assert_success(&out);
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let findings = json["findings"].as_array().unwrap();
     let ids: Vec<&str> = findings.iter().map(|f| f["id"].as_str().unwrap()).collect();
@@ -166,12 +152,12 @@ fn findings_are_computed_from_the_results_file_alone() {
     }
     // The fixture sweeps hand-off methods and threading: a slice is one of each.
     assert_eq!(json["slice_dims"], serde_json::json!(["sync", "threading"]));
-    let again = oceanbench(&["findings", fixture.to_str().unwrap(), "--json"]);
+    let again = oceanbench(&["findings", FIXTURE, "--json"]);
     assert_eq!(
         out.stdout, again.stdout,
         "the same file gives the same findings"
     );
-    let text = oceanbench(&["findings", fixture.to_str().unwrap()]);
+    let text = oceanbench(&["findings", FIXTURE]);
     let text = String::from_utf8_lossy(&text.stdout);
     assert!(text.starts_with("## Findings"), "{text}");
     assert!(text.contains("**sync atomic, threading pool**"), "{text}");
@@ -182,11 +168,7 @@ fn a_grid_reads_one_stat_of_each_row_and_column_cell() {
     let readme = "# x\n\n<!-- ob:grid run=quick-fixture head=method rows=\"atomic;the spin=spin\" cols=\"UP=16 w0 up {} pool neighbors reference@fps;DP ÷ UP=16 w0 dp {} pool neighbors reference@dp_over_up\" -->\n<!-- /ob -->\n";
     let root = checkout(readme);
     let out = oceanbench_in(root.path(), &["docs", "--write"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let written = std::fs::read_to_string(root.path().join("README.md")).unwrap();
     let results =
         oceanbench::results::Results::load(&root.path().join("results/quick-fixture/results.json"))

@@ -3,6 +3,8 @@
 //! write that fails leaves no temporary file. Every test gives its processes a lock directory of
 //! its own (OCEANBENCH_LOCK_DIR), so tests running in parallel never see each other's locks.
 
+mod common;
+
 use oceanbench::doctor::{Report, Severity};
 use oceanbench::results::Results;
 use std::path::Path;
@@ -11,10 +13,8 @@ use std::time::{Duration, Instant};
 
 /// The binary, with the per-core locks under `lock_dir`.
 fn oceanbench(lock_dir: &Path, args: &[&str]) -> Command {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_oceanbench"));
-    cmd.args(args)
-        .env("OCEANBENCH_LOCK_DIR", lock_dir)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+    let mut cmd = common::command(args);
+    cmd.env("OCEANBENCH_LOCK_DIR", lock_dir)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
     cmd

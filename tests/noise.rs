@@ -2,6 +2,9 @@
 //! trial, noisy trials re-run, verdicts that say when they rest on noisy trials, `doctor`, and
 //! the bad input of each.
 
+mod common;
+
+use common::{assert_one_line_exit_2, oceanbench};
 use oceanbench::affinity;
 use oceanbench::calibrate::Calibrate;
 use oceanbench::cell::Axes;
@@ -12,7 +15,6 @@ use oceanbench::report::markdown;
 use oceanbench::results::Results;
 use oceanbench::sweep::Sweep;
 use oceanbench::sync::SyncMethod;
-use std::process::Command;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
@@ -144,14 +146,6 @@ fn a_hog_on_the_measured_core_makes_trials_noisy_and_they_are_retried() {
     assert!(c.to_text().contains("† rests on trials"));
 }
 
-fn oceanbench(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_oceanbench"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the binary runs")
-}
-
 #[test]
 fn bad_noise_settings_exit_2_with_one_line_naming_the_field() {
     for (args, needle) in [
@@ -167,11 +161,7 @@ fn bad_noise_settings_exit_2_with_one_line_naming_the_field() {
         (vec!["run", "--calibrate", "never"], "row, once"),
         (vec!["doctor", "--seconds", "0"], "--seconds"),
     ] {
-        let out = oceanbench(&args);
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-        assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: {stderr}");
-        assert!(stderr.contains(needle), "{args:?}: {stderr}");
+        assert_one_line_exit_2(&oceanbench(&args), &[needle]);
     }
     for (text, needle) in [
         (

@@ -2,6 +2,9 @@
 //! two, a change mid-run), labelled, and read back by every output; a committed run from before
 //! placement was recorded placed from its own round trips; the new bad input refused.
 
+mod common;
+
+use common::{assert_one_line_exit_2, assert_success, fixture, oceanbench};
 use oceanbench::cell::{Dim, DimValue};
 use oceanbench::frame_loop::Mode;
 use oceanbench::placement::{self, Class, RunPlacement};
@@ -9,17 +12,11 @@ use oceanbench::report::compare::{self, Metric};
 use oceanbench::report::{csv, markdown};
 use oceanbench::results::{CellKey, Results};
 use oceanbench::slow_trials::TrialRecord;
-use std::path::Path;
-use std::process::Command;
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
 
 /// The fixture run with per-trial records for one row's serial, UP and DP cells (atomic): each
 /// `(fps, [before, after])` a trial, in the order run.
 fn run(serial: &[(f64, [f64; 2])], up: &[(f64, [f64; 2])], dp: &[(f64, [f64; 2])]) -> Results {
-    let mut r = Results::load(&root().join("tests/fixtures/quick-results.json")).unwrap();
+    let mut r = fixture();
     r.round_trip.before = None;
     r.round_trip.after = None;
     for (mode, trials) in [(Mode::Serial, serial), (Mode::Up, up), (Mode::Dp, dp)] {
@@ -172,17 +169,9 @@ fn a_change_mid_run_mixes_a_cell_and_every_output_marks_it() {
 
 #[test]
 fn a_run_from_before_placement_is_placed_from_its_dp_round_trips() {
-    let out = Command::new(env!("CARGO_BIN_EXE_oceanbench"))
-        .args(["placement", "results/projected-20261125T163816Z"])
-        .current_dir(root())
-        .output()
-        .unwrap();
+    let out = oceanbench(&["placement", "results/projected-20261125T163816Z"]);
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     assert!(
         stdout.starts_with("### Placement\n\nTwo placements: near "),
         "{stdout}"
@@ -216,14 +205,8 @@ fn latency_and_doctor_refuse_one_core_twice() {
         vec!["latency", "--matrix", "--cores", "0,0"],
         vec!["doctor", "--cores", "0,0"],
     ] {
-        let out = Command::new(env!("CARGO_BIN_EXE_oceanbench"))
-            .args(&args)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-        assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: {stderr}");
-        assert!(stderr.contains("--cores"), "{args:?}: {stderr}");
+        let out = oceanbench(&args);
+        assert_one_line_exit_2(&out, &["--cores"]);
         assert!(out.stdout.is_empty(), "{args:?}");
     }
     assert!(!json.exists(), "nothing written");

@@ -3,13 +3,15 @@
 //! of a camera looking straight down, and its bad input. Bit-identity across modes and helper
 //! counts is in tests/frame_loop.rs, beside the regular grid's.
 
+mod common;
+
+use common::{assert_one_line_exit_2, assert_success, oceanbench};
 use oceanbench::camera::{Camera, CameraPath, View};
 use oceanbench::ocean::sines::Sines;
 use oceanbench::ocean::{FftOcean, FftParams};
 use oceanbench::ocean::{Grid, GridKind, Kernel, Mesh, Model, NormalMethod, OceanParams, Stepper};
 use oceanbench::ocean::{Wave, WaveSet};
 use oceanbench::projected;
-use std::process::{Command, Output};
 
 /// The projected grid's stepper of the sines.
 fn stepper(camera: Camera, kernel: Kernel, grid: Grid, waves: &WaveSet) -> Box<dyn Stepper> {
@@ -277,26 +279,9 @@ fn bands_are_bit_identical_to_whole_steps() {
     }
 }
 
-fn oceanbench(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oceanbench"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the binary runs")
-}
-
 /// Exit status 2, one stderr line naming `needles`, and the file at `kept` untouched.
 fn refused(args: &[&str], needles: &[&str], kept: &std::path::Path) {
-    let out = oceanbench(args);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-    assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: {stderr}");
-    for needle in needles {
-        assert!(
-            stderr.contains(needle),
-            "{args:?}: {stderr:?} lacks {needle:?}"
-        );
-    }
+    assert_one_line_exit_2(&oceanbench(args), needles);
     assert_eq!(std::fs::read_to_string(kept).unwrap(), "kept", "{args:?}");
 }
 
@@ -420,11 +405,7 @@ fn mesh_csv_of_the_projected_grid_has_the_regular_grid_s_columns() {
             "--out",
             path.to_str().unwrap(),
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        assert_success(&out);
         std::fs::read_to_string(path).unwrap()
     };
     let (regular, projected) = (csv("regular"), csv("projected"));
@@ -536,11 +517,7 @@ fn mesh_writes_the_fft_ocean_on_the_projected_grid_with_its_fold() {
         "--out",
         path.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let csv = std::fs::read_to_string(path).unwrap();
     assert!(csv.lines().next().unwrap().ends_with(",fold"), "{csv:.80}");
     assert_eq!(csv.lines().count(), 64 * 64 + 1);

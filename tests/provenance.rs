@@ -2,15 +2,11 @@
 //! the dirty flag read as unknown, and every report saying a dirty or unknown run is one.
 //! (scripts/provenance-check.sh checks the build end to end: an edit makes the next run dirty.)
 
+mod common;
+
+use common::fixture;
 use oceanbench::machine::{Machine, Tree};
 use oceanbench::report::{html, markdown};
-use oceanbench::results::Results;
-use std::path::Path;
-
-fn fixture() -> Results {
-    Results::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/quick-results.json"))
-        .unwrap()
-}
 
 /// The fixture's machine with the tree recorded as `dirty` and `diff_hash`.
 fn machine(dirty: Option<bool>, diff_hash: Option<&str>) -> Machine {

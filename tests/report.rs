@@ -2,6 +2,9 @@
 //! run can draw, the config's text escaped, the comparison with a baseline; bad input is one
 //! line, exit 2 and nothing written; sweep writes the page and records its command line.
 
+mod common;
+
+use common::{assert_success, fixture, oceanbench, root};
 use oceanbench::cell::Dim;
 use oceanbench::report::chart::{self, ChartOptions};
 use oceanbench::report::compare::{self, Metric};
@@ -10,15 +13,6 @@ use oceanbench::report::{json, markdown};
 use oceanbench::results::{Results, SCHEMA_VERSION};
 use scraper::{ElementRef, Html, Selector};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn fixture() -> Results {
-    Results::load(&root().join("tests/fixtures/quick-results.json")).unwrap()
-}
 
 fn sel(s: &str) -> Selector {
     Selector::parse(s).unwrap()
@@ -56,13 +50,6 @@ fn fact(doc: &Html, dt: &str) -> String {
         panic!("no fact {dt}");
     });
     text(dds[at])
-}
-
-fn oceanbench(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oceanbench"))
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 /// A copy of `results` in its own folder.
@@ -229,11 +216,7 @@ fn a_baseline_adds_every_verdict_with_its_interval() {
 fn report_writes_the_page_beside_the_results_or_where_asked() {
     let (_dir, run) = folder(&fixture());
     let out = oceanbench(&["report", run.to_str().unwrap()]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let page = std::fs::read_to_string(run.join("report.html")).unwrap();
     assert!(page.starts_with("<!DOCTYPE html>"));
     let elsewhere = run.join("other.html");
@@ -246,11 +229,7 @@ fn report_writes_the_page_beside_the_results_or_where_asked() {
         "--out",
         elsewhere.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     assert!(std::fs::read_to_string(elsewhere)
         .unwrap()
         .contains("Verdicts per cell"));
@@ -475,11 +454,7 @@ fn refresh_rewrites_the_write_ups_from_results_json_and_leaves_it_as_it_was() {
     let before = std::fs::read(run.join("results.json")).unwrap();
     std::fs::write(run.join("results.md"), "stale\n").unwrap();
     let out = oceanbench(&["report", run.to_str().unwrap(), "--refresh"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     assert_eq!(std::fs::read(run.join("results.json")).unwrap(), before);
     let md = std::fs::read_to_string(run.join("results.md")).unwrap();
     assert!(

@@ -1,22 +1,19 @@
 //! results.json's `schema_version`: files from before it load as version 1, this build writes
 //! its own, and a file from a newer build is refused with one line rather than misread.
 
-use oceanbench::results::{Results, SCHEMA_VERSION};
-use std::path::Path;
+mod common;
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
+use common::{fixture, oceanbench, root, FIXTURE};
+use oceanbench::results::{Results, SCHEMA_VERSION};
 
 #[test]
 fn files_without_a_version_load_as_version_1_and_every_committed_run_loads() {
-    let fixture = root().join("tests/fixtures/quick-results.json");
-    let text = std::fs::read_to_string(&fixture).unwrap();
+    let text = std::fs::read_to_string(FIXTURE).unwrap();
     assert!(
         !text.contains("schema_version"),
         "the fixture predates the field"
     );
-    assert_eq!(Results::load(&fixture).unwrap().schema_version, 1);
+    assert_eq!(fixture().schema_version, 1);
     for dir in std::fs::read_dir(root().join("results")).unwrap() {
         let dir = dir.unwrap().path();
         if dir.join("results.json").exists() {
@@ -28,7 +25,7 @@ fn files_without_a_version_load_as_version_1_and_every_committed_run_loads() {
 
 #[test]
 fn this_build_writes_its_version_and_refuses_a_newer_one() {
-    let mut r = Results::load(&root().join("tests/fixtures/quick-results.json")).unwrap();
+    let mut r = fixture();
     r.schema_version = SCHEMA_VERSION;
     let written = oceanbench::report::json::to_string(&r).unwrap();
     let json: serde_json::Value = serde_json::from_str(&written).unwrap();
@@ -46,11 +43,13 @@ fn this_build_writes_its_version_and_refuses_a_newer_one() {
         err.contains(&format!("schema version {}", SCHEMA_VERSION + 1)) && err.contains("newer"),
         "{err}"
     );
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_oceanbench"))
-        .args(["chart", newer.to_str().unwrap(), "--out"])
-        .arg(dir.path().join("charts"))
-        .output()
-        .unwrap();
+    let charts = dir.path().join("charts");
+    let out = oceanbench(&[
+        "chart",
+        newer.to_str().unwrap(),
+        "--out",
+        charts.to_str().unwrap(),
+    ]);
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");

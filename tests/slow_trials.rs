@@ -4,6 +4,9 @@
 //! attribution itself is unit-tested with injected causes (src/slow_trials.rs); here the records
 //! flow through every output. Bad thresholds, and flags a mode ignores, are said once.
 
+mod common;
+
+use common::assert_one_line_exit_2;
 use oceanbench::affinity;
 use oceanbench::cell::Axes;
 use oceanbench::config::{Level, SweepConfig};
@@ -15,7 +18,6 @@ use oceanbench::sched::TrialNoise;
 use oceanbench::slow_trials::{Cause, Slow};
 use oceanbench::sweep::Sweep;
 use oceanbench::sync::SyncMethod;
-use std::process::Command;
 
 fn tiny() -> Results {
     let modes = if affinity::allowed_cores().len() >= 2 {
@@ -203,9 +205,7 @@ fn compare_marks_a_verdict_resting_on_an_unexplained_slow_trial() {
 }
 
 fn oceanbench(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_oceanbench"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+    common::command(args)
         .env(
             "OCEANBENCH_LOCK_DIR",
             std::env::temp_dir().join("oceanbench-test-slow"),
@@ -218,11 +218,7 @@ fn oceanbench(args: &[&str]) -> std::process::Output {
 fn a_threshold_outside_0_to_100_is_refused_and_ignored_flags_are_said_once() {
     for bad in ["0", "100", "-5"] {
         let flag = format!("--slow-trial-percent={bad}");
-        let out = oceanbench(&["run", &flag]);
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{bad}: {stderr}");
-        assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
-        assert!(stderr.contains("slow_trial_percent"), "{stderr}");
+        assert_one_line_exit_2(&oceanbench(&["run", &flag]), &["slow_trial_percent"]);
     }
     let err = SweepConfig::from_json(r#"{"slow_trial_percent": 250}"#)
         .unwrap_err()

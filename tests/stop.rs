@@ -1,15 +1,15 @@
 //! Stops that always stop: one SIGTERM ends a frame of a minute's work at once, with status 130,
 //! and a sweep keeps the rows it finished.
 
+mod common;
+
 use oceanbench::results::Results;
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Stdio};
 use std::time::{Duration, Instant};
 
 fn start(args: &[&str]) -> Child {
-    Command::new(env!("CARGO_BIN_EXE_oceanbench"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+    common::command(args)
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
