@@ -94,16 +94,17 @@ fn particles(c: &mut Criterion) {
                 BatchSize::LargeInput,
             )
         });
-        let mut spray = Spray::new(&WorkSpec {
-            kind: WorkloadKind::Spray,
-            amount: n as u64,
-            grid: meshes[0].grid,
-            camera: Camera::default(),
-            spacing,
-            time_step: DT,
-            spray: SprayParams::default(),
-            fog: Default::default(),
-        });
+        let mut spray = Spray::new(
+            &WorkSpec {
+                kind: WorkloadKind::SPRAY,
+                amount: n as u64,
+                grid: meshes[0].grid,
+                camera: Camera::default(),
+                spacing,
+                time_step: DT,
+            },
+            SprayParams::default(),
+        );
         let mut k = 0u64;
         for _ in 0..120 {
             k += 1;

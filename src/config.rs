@@ -6,9 +6,10 @@ use crate::balance::record::BalanceSettings;
 use crate::camera::Camera;
 use crate::cell::{Axes, CellKey};
 use crate::frame_loop::{check_depth, check_helpers, Budget, Mode};
+pub use crate::machine::available_memory;
 use crate::ocean::{mesh, FftParams, Grid, Mesh, OceanParams, Wave, WaveSet};
 use crate::suggest;
-use crate::workload::{fog, spray, FogParams, SprayParams, WorkloadKind};
+use crate::workload::{self, DynKind, KindParams, WorkloadKind};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -46,9 +47,6 @@ pub struct Level {
 
 /// Most times a noisy trial may be re-run (`retry_noisy`).
 pub const MAX_RETRY_NOISY: u32 = 10;
-
-/// Largest amount a level may give in a kind's unit: a whole number an f64 holds exactly.
-const MAX_AMOUNT: f64 = 9.0e15;
 
 impl Level {
     /// A level of `micros` microseconds.
@@ -98,6 +96,7 @@ impl Level {
         kinds: &[WorkloadKind],
     ) -> Result<(), InputError> {
         let field = format!("workload_levels[{index}]");
+        let kinds: Vec<&dyn DynKind> = kinds.iter().map(|k| k.kind()).collect::<Result<_, _>>()?;
         let forms = || {
             let mut units: Vec<&str> = kinds.iter().map(|k| k.unit()).collect();
             units.dedup();
@@ -114,8 +113,9 @@ impl Level {
                 && self.size.is_none();
             if let Some(kind) = kinds.iter().find(|k| k.unit() != unit) {
                 return Err(InputError(format!(
-                    "{field}: `{unit}` is not a unit of workload_kind `{kind}` (its unit is \
+                    "{field}: `{unit}` is not a unit of workload_kind `{}` (its unit is \
                      `{}`); {}",
+                    kind.name(),
                     kind.unit(),
                     forms()
                 )));
@@ -123,33 +123,18 @@ impl Level {
             if !alone {
                 return Err(InputError(format!("{field}: {}, one of them", forms())));
             }
-            if unit == spray::Spray::UNIT {
-                return spray::check_particles(
-                    &format!("{field}.{unit}"),
-                    amount,
-                    available_memory(),
-                );
-            }
-            if !(amount.is_finite()
-                && (0.0..=MAX_AMOUNT).contains(&amount)
-                && amount.fract() == 0.0)
-            {
-                return Err(InputError(format!(
-                    "{field}.{unit}: must be a whole number 0 to {MAX_AMOUNT}, got {amount}"
-                )));
-            }
-            if unit == fog::Fog::UNIT {
-                fog::check_volume(
-                    &format!("{field}.{unit}"),
-                    amount as u64,
-                    available_memory(),
-                )?;
+            for kind in &kinds {
+                kind.check_amount(&format!("{field}.{unit}"), amount)?;
             }
             return Ok(());
         }
-        if let Some(kind) = kinds.iter().find(|k| k.unit() == spray::Spray::UNIT) {
+        if let Some((kind, why)) = kinds
+            .iter()
+            .find_map(|k| k.no_time_levels().map(|why| (k, why)))
+        {
+            let (name, unit) = (kind.name(), kind.unit());
             return Err(InputError(format!(
-                "{field}: workload_kind `{kind}` takes its level in particles, {{\"particles\": N}}; microseconds and step fractions are not converted to particles (spray has no per-particle calibration)"
+                "{field}: workload_kind `{name}` takes its level in {unit}, {{\"{unit}\": N}}; microseconds and step fractions are not converted to {unit} ({why})"
             )));
         }
         match (self.micros, self.step_fraction, self.size) {
@@ -227,10 +212,10 @@ pub struct SweepConfig {
     pub balance: Option<BalanceSettings>,
     /// The camera the `render` and `fog` workloads look through.
     pub camera: Camera,
-    /// The `spray` workload's parameters.
-    pub spray: SprayParams,
-    /// The `fog` workload's parameters.
-    pub fog: FogParams,
+    /// Each workload kind's config object under the kind's name (`spray`, `fog`), as given:
+    /// the kind parses and checks it ([`SweepConfig::kind_params`]).
+    #[serde(flatten)]
+    pub kinds: serde_json::Map<String, serde_json::Value>,
 }
 
 impl Default for SweepConfig {
@@ -259,8 +244,7 @@ impl Default for SweepConfig {
             slow_trial_percent: crate::slow_trials::DEFAULT_THRESHOLD_PERCENT,
             balance: None,
             camera: Camera::default(),
-            spray: SprayParams::default(),
-            fog: FogParams::default(),
+            kinds: serde_json::Map::new(),
         }
     }
 }
@@ -359,9 +343,12 @@ impl SweepConfig {
         self.timeout_seconds * 1e6
     }
 
-    /// Every key a config may have, in the order a config is written.
+    /// Every key a config may have, in the order a config is written: the config's own, then
+    /// each registered workload kind's object.
     pub fn keys() -> Vec<String> {
-        match serde_json::to_value(SweepConfig::default()) {
+        let mut config = SweepConfig::default();
+        config.record_kind_defaults();
+        match serde_json::to_value(config) {
             Ok(serde_json::Value::Object(map)) => map.keys().cloned().collect(),
             _ => unreachable!("a config serialises as an object"),
         }
@@ -391,6 +378,21 @@ impl SweepConfig {
             waves: self.wave_set()?,
             fft,
         })
+    }
+
+    /// Workload kind `kind`'s parameters: its object in the config, or its defaults.
+    pub fn kind_params(&self, kind: WorkloadKind) -> Result<KindParams, InputError> {
+        kind.kind()?.params(self.kinds.get(kind.name()))
+    }
+
+    /// Writes every registered kind's default parameters the config leaves out, so that a
+    /// results file records what each kind ran with.
+    pub fn record_kind_defaults(&mut self) {
+        for kind in workload::kinds() {
+            if let Some(params) = kind.default_params() {
+                self.kinds.entry(kind.name()).or_insert(params);
+            }
+        }
     }
 
     /// The trial budget.
@@ -547,8 +549,15 @@ impl SweepConfig {
             b.validate("balance.")?;
         }
         self.camera.validate()?;
-        self.spray.validate()?;
-        self.fog.validate()?;
+        for name in self.kinds.keys() {
+            let kind = workload::lookup(name).ok_or_else(|| {
+                InputError(format!(
+                    "{name}: no registered workload kind has this key (registered: {})",
+                    workload::names().join(", ")
+                ))
+            })?;
+            self.kind_params(WorkloadKind::named(kind.name()))?;
+        }
         self.ocean_params()?;
         self.placement()?;
         for key in self.axes.cells() {
@@ -588,12 +597,4 @@ fn check_memory(key: &CellKey, grid: Grid) -> Result<(), InputError> {
         }
     }
     Ok(())
-}
-
-/// MemAvailable from /proc/meminfo, in bytes (None where it cannot be read).
-pub fn available_memory() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
 }

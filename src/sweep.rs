@@ -5,7 +5,7 @@
 use crate::balance::{self, BalanceError, BalanceSettings, Testbed};
 use crate::calibrate::{self, Calibrate, RowCalibration, Yardstick};
 use crate::cell::{Dim, Value};
-use crate::config::{self, InputError, Level, SweepConfig};
+use crate::config::{self, InputError, SweepConfig};
 use crate::crosscore;
 use crate::frame_loop::{self, LoopError, LoopSpec, Mode, Threading};
 use crate::machine::Machine;
@@ -18,7 +18,7 @@ use crate::results::{
 use crate::sched::TrialNoise;
 use crate::slow_trials::{self, TrialFacts};
 use crate::sync::{Policy, SyncMethod};
-use crate::workload::{fog, Calibration, WorkRecord, WorkloadKind};
+use crate::workload::{Calibration, KindParams, LevelAt, WorkRecord, WorkloadKind};
 use itertools::Itertools;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -29,23 +29,36 @@ pub fn cells(config: &SweepConfig) -> Vec<CellKey> {
     config.axes.cells()
 }
 
-/// The line saying which cells a sweep leaves out because `spray` cannot run on their ocean or
-/// grid, when it lists such a surface beside one it can.
-pub fn spray_skips(config: &SweepConfig) -> Option<String> {
-    if !config.axes.workload_kind.contains(&WorkloadKind::Spray) {
-        return None;
-    }
-    let mut reasons = Vec::new();
-    for &ocean in &config.axes.ocean {
-        for &grid in &config.axes.grid {
-            if let Err(e) = WorkloadKind::Spray.check_surface(ocean, grid) {
-                if !reasons.contains(&e.0) {
-                    reasons.push(e.0);
+/// The line saying which cells a sweep leaves out because a workload kind cannot run on their
+/// ocean or grid (spray on the sines), when it lists such a surface beside one it can.
+pub fn kind_skips(config: &SweepConfig) -> Option<String> {
+    let mut lines = Vec::new();
+    for &kind in &config.axes.workload_kind {
+        let mut reasons = Vec::new();
+        for &ocean in &config.axes.ocean {
+            for &grid in &config.axes.grid {
+                if let Err(e) = kind.check_surface(ocean, grid) {
+                    if !reasons.contains(&e.0) {
+                        reasons.push(e.0);
+                    }
                 }
             }
         }
+        if !reasons.is_empty() {
+            lines.push(format!("{kind} cells skipped: {}", reasons.join("; ")));
+        }
     }
-    (!reasons.is_empty()).then(|| format!("spray cells skipped: {}", reasons.join("; ")))
+    (!lines.is_empty()).then(|| lines.join("; "))
+}
+
+/// Each listed workload kind's parameters, in the order of the list.
+fn work_params(config: &SweepConfig) -> Result<Vec<KindParams>, InputError> {
+    config
+        .axes
+        .workload_kind
+        .iter()
+        .map(|&k| config.kind_params(k))
+        .collect()
 }
 
 /// Measures the workload speed and the yardstick (every listed size and every size a level
@@ -99,50 +112,27 @@ pub fn calibrate(config: &SweepConfig, params: &OceanParams) -> CalibrationRecor
     }
 }
 
-/// A `fog` row's level on `grid`, measured by the fog's own calibration: a volume edge is
-/// kept and its pass timed (its µs are the pass's); µs (or a step fraction's µs) come to the edge
-/// whose pass takes that long, at most [`fog::MAX_VOLUME`] (the start refuses levels beyond it).
-fn fog_level(
+/// Each listed kind's own account of the start record's levels, on the sweep's largest mesh:
+/// a kind with its own calibration (fog) times a level given in its unit, and refuses one in µs
+/// it cannot reach.
+fn kind_levels(
     config: &SweepConfig,
-    level: &Level,
-    grid: Grid,
-    micros: f64,
-    amount: u64,
-) -> (f64, u64) {
-    if level.amount().is_some() {
-        let cost = fog::calibrate::measure(&config.fog, grid, config.camera, amount);
-        return (if amount == 0 { 0.0 } else { cost.micros() }, amount);
-    }
-    match fog::calibrate::volume_for(&config.fog, grid, config.camera, micros) {
-        Ok((edge, _)) => (micros, edge),
-        Err(_) => (micros, fog::MAX_VOLUME),
-    }
-}
-
-/// With `fog` in the sweep, the start record of each volume level gets its pass's µs on the
-/// largest mesh, and a level in µs the fog cannot reach within [`fog::MAX_VOLUME`] is refused.
-fn fog_levels(config: &SweepConfig, calibration: &mut CalibrationRecord) -> Result<(), InputError> {
-    if !config.axes.workload_kind.contains(&WorkloadKind::Fog) {
-        return Ok(());
-    }
+    params: &[KindParams],
+    calibration: &mut CalibrationRecord,
+) -> Result<(), InputError> {
     let size = config.axes.sizes.iter().copied().max().expect("validated");
     let grid = Grid::new(size, config.spacing).expect("validated");
-    for l in &mut calibration.levels {
-        if let Some((_, volume)) = l.level.amount() {
-            if volume > 0 {
-                l.micros =
-                    fog::calibrate::measure(&config.fog, grid, config.camera, volume).micros();
-            }
-        } else if let Err(edge) =
-            fog::calibrate::volume_for(&config.fog, grid, config.camera, l.micros)
-        {
-            return Err(InputError(format!(
-                "workload_levels[{}]: {:.0} µs of fog on the {size}×{size} mesh needs a volume \
-                 of about {edge}³ on this machine; allowed up to {}³ (fewer µs, or more octaves)",
-                l.workload,
-                l.micros,
-                fog::MAX_VOLUME
-            )));
+    for p in params {
+        let kind = p.kind().kind()?;
+        for l in &mut calibration.levels {
+            let at = LevelAt {
+                grid,
+                camera: config.camera,
+                given: l.level.amount().map(|(_, a)| a),
+            };
+            l.micros = kind
+                .start_level(p, &at, l.micros)
+                .map_err(|e| InputError(format!("workload_levels[{}]: {e}", l.workload)))?;
         }
     }
     Ok(())
@@ -195,6 +185,7 @@ pub struct Sweep {
     /// The results so far (cells grow as groups finish).
     pub results: Results,
     params: OceanParams,
+    work_params: Vec<KindParams>,
     cores: [usize; 2],
     keys: Vec<CellKey>,
     stop: Arc<AtomicBool>,
@@ -203,14 +194,16 @@ pub struct Sweep {
 impl Sweep {
     /// Validates the config, describes the machine, measures the cross-core round trip and
     /// calibrates the workload.
-    pub fn prepare(config: SweepConfig) -> Result<Sweep, InputError> {
+    pub fn prepare(mut config: SweepConfig) -> Result<Sweep, InputError> {
         config.validate()?;
+        config.record_kind_defaults();
         let params = config.ocean_params()?;
+        let work_params = work_params(&config)?;
         let cores = config.placement()?;
         let before = (cores[0] != cores[1])
             .then(|| crosscore::round_trip(cores[0], cores[1], ROUND_TRIP_BATCHES));
         let mut calibration = calibrate(&config, &params);
-        fog_levels(&config, &mut calibration)?;
+        kind_levels(&config, &work_params, &mut calibration)?;
         for l in &calibration.levels {
             if l.micros > config.max_workload_micros() {
                 return Err(InputError(config::too_much_work(
@@ -245,6 +238,7 @@ impl Sweep {
                 placement: None,
             },
             params,
+            work_params,
             cores,
             keys,
             stop: Arc::new(AtomicBool::new(false)),
@@ -257,6 +251,7 @@ impl Sweep {
         let config = previous.config.clone();
         config.validate()?;
         let params = config.ocean_params()?;
+        let work_params = work_params(&config)?;
         let cores = config.placement()?;
         let keys = cells(&config)
             .into_iter()
@@ -269,6 +264,7 @@ impl Sweep {
                 ..previous
             },
             params,
+            work_params,
             cores,
             keys,
             stop: Arc::new(AtomicBool::new(false)),
@@ -505,12 +501,15 @@ impl Sweep {
             }
             _ => (at_start.micros, at_start.iterations),
         };
-        let (micros, iterations) = match key.workload_kind {
-            WorkloadKind::Fog => {
-                let grid = Grid::new(key.size, config.spacing).expect("validated");
-                fog_level(config, level, grid, micros, iterations)
-            }
-            _ => (micros, iterations),
+        let params = self.params_of(key.workload_kind);
+        let at = LevelAt {
+            grid: Grid::new(key.size, config.spacing).expect("validated"),
+            camera: config.camera,
+            given: level.amount().map(|(_, a)| a),
+        };
+        let (micros, iterations) = match key.workload_kind.kind() {
+            Ok(kind) => kind.row_level(params, &at, micros, iterations),
+            Err(_) => (micros, iterations),
         };
         let calibration = RowCalibration {
             calibrate: config.calibrate,
@@ -541,6 +540,14 @@ impl Sweep {
         }
     }
 
+    /// Workload kind `kind`'s parameters (every kind of the sweep's cells has them).
+    fn params_of(&self, kind: WorkloadKind) -> &KindParams {
+        self.work_params
+            .iter()
+            .find(|p| p.kind() == kind)
+            .expect("every listed kind's parameters are parsed when the sweep is made")
+    }
+
     /// The loop of cell `key` with `iterations` of workload per frame, on this sweep's cores.
     pub fn loop_spec(&self, key: &CellKey, iterations: u64) -> LoopSpec {
         let config = &self.results.config;
@@ -558,8 +565,7 @@ impl Sweep {
             workload_kind: key.workload_kind,
             workload_amount: iterations,
             camera: config.camera,
-            spray: config.spray,
-            fog: config.fog.clone(),
+            work_params: self.params_of(key.workload_kind).clone(),
             depth: key.depth.unwrap_or(1),
             consume: key.consume,
             main_core: self.cores[0],
@@ -628,7 +634,12 @@ impl CellRun {
         let breakdown = (!frames.is_empty()).then(|| Breakdown::of(frames));
         let ns_per_iteration = self.calibration.as_ref().map(|c| c.ns_per_iteration_in_row);
         let per_iteration = |b: &Breakdown| {
-            (self.spec.workload_kind == WorkloadKind::Synthetic && self.spec.workload_amount > 0)
+            (self
+                .spec
+                .workload_kind
+                .kind()
+                .is_ok_and(|k| k.is_calibrated_chain())
+                && self.spec.workload_amount > 0)
                 .then(|| b.workload_ms * 1e6 / self.spec.workload_amount as f64)
         };
         self.facts.push(TrialFacts {

@@ -6,7 +6,7 @@ use oceanbench::camera::Camera;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
 use oceanbench::ocean::{Grid, GridKind, Kernel, Mesh, NormalMethod, OceanKind, OceanParams};
 use oceanbench::sync::{Policy, SyncMethod};
-use oceanbench::workload::WorkloadKind;
+use oceanbench::workload::{KindParams, WorkloadKind};
 use std::time::Duration;
 
 const FRAMES: u64 = 300;
@@ -24,11 +24,10 @@ fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMetho
         policy: Policy::Fifo,
         sync,
         threading,
-        workload_kind: WorkloadKind::Synthetic,
+        workload_kind: WorkloadKind::SYNTHETIC,
         workload_amount: 50,
         camera: Camera::default(),
-        spray: Default::default(),
-        fog: Default::default(),
+        work_params: KindParams::default_for(WorkloadKind::SYNTHETIC).unwrap(),
         depth: 1,
         consume: Consume::Copy,
         main_core: cores[0],
@@ -654,7 +653,8 @@ fn render_draws_the_same_vertex_buffer_in_every_mode_depth_consumption_method_an
     const FEW: u64 = 24;
     let analytic = |mode, sync, threading| {
         let mut s = spec(mode, sync, threading, NormalMethod::Analytic);
-        (s.workload_kind, s.workload_amount) = (WorkloadKind::Render, 100);
+        (s.workload_kind, s.workload_amount) = (WorkloadKind::RENDER, 100);
+        s.work_params = KindParams::default_for(WorkloadKind::RENDER).unwrap();
         s.grid = Grid::new(24, 0.75).unwrap();
         s
     };
@@ -810,7 +810,8 @@ fn fog_fields_are_the_same_in_every_mode_depth_consumption_and_method() {
     const FEW: u64 = 12;
     let fog = |mode, sync| {
         let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
-        (s.workload_kind, s.workload_amount) = (WorkloadKind::Fog, 10);
+        (s.workload_kind, s.workload_amount) = (WorkloadKind::FOG, 10);
+        s.work_params = KindParams::default_for(WorkloadKind::FOG).unwrap();
         s.grid = Grid::new(16, 0.75).unwrap();
         s
     };

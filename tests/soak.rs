@@ -13,7 +13,7 @@ use oceanbench::camera::Camera;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
 use oceanbench::ocean::{Grid, GridKind, Kernel, NormalMethod, OceanKind, OceanParams};
 use oceanbench::sync::{Policy, SyncMethod};
-use oceanbench::workload::WorkloadKind;
+use oceanbench::workload::{KindParams, WorkloadKind};
 use std::time::Duration;
 
 /// Frames per run at depths 1, 2 and 3.
@@ -45,11 +45,10 @@ fn a_million_frames_per_method_none_lost() {
                     policy: Policy::Fifo,
                     sync,
                     threading: Threading::Pool,
-                    workload_kind: WorkloadKind::Synthetic,
+                    workload_kind: WorkloadKind::SYNTHETIC,
                     workload_amount: 0,
                     camera: Camera::default(),
-                    spray: Default::default(),
-                    fog: Default::default(),
+                    work_params: KindParams::default_for(WorkloadKind::SYNTHETIC).unwrap(),
                     depth,
                     consume: if depth == 1 {
                         Consume::Copy

@@ -9,10 +9,23 @@ use oceanbench::ocean::{
     FftParams, Grid, GridKind, Kernel, Mesh, NormalMethod, OceanKind, OceanParams,
 };
 use oceanbench::sync::{Policy, SyncMethod};
-use oceanbench::workload::{SprayParams, WorkloadKind};
+use oceanbench::workload::spray::SprayKind;
+use oceanbench::workload::{KindParams, SprayParams, WorkloadKind};
 use std::time::Duration;
 
 const FRAMES: u64 = 30;
+
+/// `params` with a cap of 200 particles a frame, so that the pool turns over in a short loop.
+fn spray_params(params: SprayParams) -> KindParams {
+    KindParams::new(
+        &SprayKind,
+        SprayParams {
+            emission_cap: 200,
+            ..params
+        },
+    )
+    .unwrap()
+}
 
 /// A steep FFT sea (choppiness 3: it folds at N = 32) with spray on the main thread.
 fn spec(mode: Mode, sync: SyncMethod, helpers: usize) -> LoopSpec {
@@ -35,14 +48,10 @@ fn spec(mode: Mode, sync: SyncMethod, helpers: usize) -> LoopSpec {
         policy: Policy::Fifo,
         sync,
         threading: Threading::Pool,
-        workload_kind: WorkloadKind::Spray,
+        workload_kind: WorkloadKind::SPRAY,
         workload_amount: 3_000,
         camera: Camera::default(),
-        spray: SprayParams {
-            emission_cap: 200,
-            ..SprayParams::default()
-        },
-        fog: Default::default(),
+        work_params: spray_params(SprayParams::default()),
         depth: 1,
         consume: Consume::Copy,
         main_core: cores[0],
@@ -95,7 +104,10 @@ fn replay(s: &LoopSpec, indices: &[u64]) -> u64 {
     let mut ocean = model
         .prepare(s.grid, &s.params, s.normals, s.kernel)
         .unwrap();
-    let mut work = WorkloadKind::work(&s.work_spec());
+    let mut work = WorkloadKind::SPRAY
+        .kind()
+        .unwrap()
+        .build(&s.work_spec(), &s.work_params);
     let mut mesh: Mesh = model.mesh(s.grid);
     for &k in indices {
         ocean.step((k as f64 * s.time_step) as f32, &mut mesh);
@@ -111,7 +123,10 @@ fn every_mode_method_helper_count_and_consumption_flies_the_same_particles_at_de
     assert_eq!(indices, (0..FRAMES).collect::<Vec<_>>());
     assert_eq!(replay(&serial, &indices), expect);
     let mut calmer = serial.clone();
-    calmer.spray.speed = 3.0;
+    calmer.work_params = spray_params(SprayParams {
+        speed: 3.0,
+        ..SprayParams::default()
+    });
     assert_ne!(fly(&calmer).0, expect, "the digest sees the particles");
     for consume in [Consume::Copy, Consume::Read, Consume::Handle] {
         let mut s = serial.clone();

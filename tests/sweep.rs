@@ -166,7 +166,7 @@ fn fog_levels_in_micros_resolve_to_a_volume_through_its_own_calibration() {
     let mut config = tiny("fog");
     config.axes.sizes = vec![8];
     config.axes.modes = vec![Mode::Serial];
-    config.axes.workload_kind = vec![WorkloadKind::Synthetic, WorkloadKind::Fog];
+    config.axes.workload_kind = vec![WorkloadKind::SYNTHETIC, WorkloadKind::FOG];
     config.workload_levels = vec![Level::micros(0.0), Level::micros(3000.0)];
     config.trials = 1;
     let results = Sweep::prepare(config).unwrap().run(&mut ());
@@ -175,11 +175,11 @@ fn fog_levels_in_micros_resolve_to_a_volume_through_its_own_calibration() {
         let what = c.key.label();
         let amount = c.workload_amount.unwrap();
         match (c.key.workload_kind, c.key.workload) {
-            (WorkloadKind::Fog, 0) => {
+            (WorkloadKind::FOG, 0) => {
                 assert_eq!((c.workload_unit(), amount), ("volume", 0), "{what}");
                 assert!(c.work.is_none(), "{what}: no pass at volume 0");
             }
-            (WorkloadKind::Fog, _) => {
+            (WorkloadKind::FOG, _) => {
                 assert_eq!(c.workload_unit(), "volume", "{what}");
                 assert!((1..=512).contains(&amount), "{what}: volume {amount}");
                 let Some(WorkRecord::Fog(r)) = &c.work else {
@@ -204,7 +204,7 @@ fn fog_levels_in_micros_resolve_to_a_volume_through_its_own_calibration() {
 fn fog_micros_beyond_the_largest_volume_are_refused() {
     use oceanbench::workload::WorkloadKind;
     let mut config = tiny("fog-too-much");
-    config.axes.workload_kind = vec![WorkloadKind::Fog];
+    config.axes.workload_kind = vec![WorkloadKind::FOG];
     config.timeout_seconds = 86_400.0;
     config.workload_levels = vec![Level::micros(0.0), Level::micros(3.0e10)];
     let Err(e) = Sweep::prepare(config) else {

@@ -34,6 +34,11 @@ pub trait DimValue: Copy + PartialEq + Sized {
     fn names() -> Option<Vec<&'static str>> {
         None
     }
+    /// Refuses a value read from a config that this program cannot run, for types whose values
+    /// read back from results files are open (a kind another program registered).
+    fn check_known(self) -> Result<(), InputError> {
+        Ok(())
+    }
 }
 
 impl DimValue for usize {
@@ -319,11 +324,17 @@ macro_rules! dimensions {
             ) -> Option<Result<(), $crate::input::InputError>> {
                 $(if key == stringify!($key) {
                     return Some(serde_path_to_error::deserialize::<_, Vec<$ty>>(list)
-                        .map(|_| ())
                         .map_err(|e| {
                             let at = e.path().to_string();
                             let msg = e.into_inner().to_string();
                             $crate::input::InputError(format!("{key}{}: {msg}", at.trim_start_matches('.')))
+                        })
+                        .and_then(|values| {
+                            values.into_iter().enumerate().try_for_each(|(i, v)| {
+                                $crate::cell::DimValue::check_known(v).map_err(|e| {
+                                    $crate::input::InputError(format!("{key}[{i}]: {e}"))
+                                })
+                            })
                         }));
                 })+
                 None

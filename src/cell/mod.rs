@@ -30,9 +30,31 @@ dim_values!(
     NormalMethod,
     OceanKind,
     Kernel,
-    GridKind,
-    WorkloadKind
+    GridKind
 );
+
+/// Workload kinds are open: a cell names any kind a results file holds, and flags and configs
+/// accept the registered ones.
+impl DimValue for WorkloadKind {
+    fn value(self) -> Value {
+        Value::Name(self.name())
+    }
+    fn from_value(value: Value) -> Option<Self> {
+        match value {
+            Value::Name(name) => Some(WorkloadKind::named(name)),
+            Value::Count(_) => None,
+        }
+    }
+    fn parse(text: &str) -> Result<Self, InputError> {
+        WorkloadKind::parse(text)
+    }
+    fn names() -> Option<Vec<&'static str>> {
+        Some(crate::workload::names())
+    }
+    fn check_known(self) -> Result<(), InputError> {
+        WorkloadKind::parse(self.name()).map(|_| ())
+    }
+}
 
 dimensions! {
     /// Mesh size N (N×N vertices).
@@ -54,12 +76,12 @@ dimensions! {
     }
     /// What the main thread does each frame: the synthetic game work, rendering the mesh, or fog.
     WorkloadKind(workload_kind: WorkloadKind) {
-        config: workload_kind = [WorkloadKind::Synthetic],
+        config: workload_kind = [WorkloadKind::SYNTHETIC],
         cells: all,
         row: true,
         label: "{}",
         title: "{} workload",
-        quiet: WorkloadKind::Synthetic,
+        quiet: WorkloadKind::SYNTHETIC,
     }
     /// Where the threads run: serial, up (one core) or dp (two cores).
     Mode(mode: Mode) {
@@ -227,7 +249,9 @@ fn check_list<T: PartialEq + std::fmt::Debug + DimValue>(
         if list[..i].contains(v) {
             return Err(InputError(format!("{key}: {} is listed twice", v.value())));
         }
-        check(v).map_err(|e| InputError(format!("{key}: {e}")))?;
+        v.check_known()
+            .and_then(|()| check(v))
+            .map_err(|e| InputError(format!("{key}: {e}")))?;
     }
     Ok(())
 }
@@ -333,7 +357,7 @@ impl Axes {
                 }
                 if let Some(Err(reason)) = dropped.iter().find(has).map(CellKey::coherent) {
                     // A kind that cannot work on a listed surface (spray on sines) loses those
-                    // cells alone, which the sweep says once (`sweep::spray_skips`), unless
+                    // cells alone, which the sweep says once (`sweep::kind_skips`), unless
                     // nothing is left to run.
                     let kind_skips = dropped
                         .iter()

@@ -48,7 +48,7 @@ pub(super) fn balance(args: BalanceArgs) -> Result<(), CliError> {
     for (dim, values) in &args.select.given {
         config.axes.set(*dim, values)?;
     }
-    if config.axes.workload_kind.contains(&WorkloadKind::Spray) && args.config.is_none() {
+    if config.axes.workload_kind.contains(&WorkloadKind::SPRAY) && args.config.is_none() {
         // The search sets the level itself; the config needs one in the kind's unit.
         config.workload_levels = vec![Level::in_unit(Spray::UNIT, 131_072)];
         config.axes.workloads = vec![0];

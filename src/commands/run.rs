@@ -78,7 +78,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
         config.workload_levels = vec![Level::micros(us)];
         config.axes.workloads = vec![0];
     }
-    if config.axes.workload_kind.contains(&WorkloadKind::Spray) {
+    if config.axes.workload_kind.contains(&WorkloadKind::SPRAY) {
         if args.workload_micros.is_some() {
             return Err(InputError(
                 "--workload-micros: spray's level is a particle count; give --particles N".into(),
@@ -97,7 +97,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
     }
     let _out_lock = args.out.as_deref().map(prepare_out_dir).transpose()?;
     config.validate()?;
-    if let Some(note) = crate::sweep::spray_skips(&config) {
+    if let Some(note) = crate::sweep::kind_skips(&config) {
         eprintln!("oceanbench: {note}");
     }
     let _core_locks = lock_cores(&config.placement()?, &args.wait)?;

@@ -27,7 +27,7 @@ use crate::measure::Trial;
 use crate::ocean::{Grid, GridKind, Kernel, Mesh, Model, NormalMethod, OceanKind, OceanParams};
 use crate::sched::{self, ThreadCounters, ThreadNoise, TrialNoise};
 use crate::sync::{Policy, SyncMethod};
-use crate::workload::{FogParams, SprayParams, Work, WorkRecord, WorkSpec, WorkloadKind};
+use crate::workload::{KindParams, Work, WorkRecord, WorkSpec, WorkloadKind};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -89,14 +89,12 @@ pub struct LoopSpec {
     pub threading: Threading,
     /// What the main thread does each frame.
     pub workload_kind: WorkloadKind,
-    /// The main thread's work per frame, in the kind's unit ([`WorkloadKind::unit`]).
+    /// The main thread's work per frame, in the kind's unit ([`crate::workload::Kind::unit`]).
     pub workload_amount: u64,
     /// The camera, for workloads that look at the mesh and for the projected grid.
     pub camera: Camera,
-    /// The spray's parameters, for the `spray` workload.
-    pub spray: SprayParams,
-    /// The fog's parameters, for the `fog` workload.
-    pub fog: FogParams,
+    /// The workload kind's parameters (its config object, parsed by the kind).
+    pub work_params: KindParams,
     /// Mesh slots in the ring: frames the helper may finish before the main thread consumes
     /// the first of them (1: the paper's lockstep loop; ignored in `serial`).
     pub depth: usize,
@@ -125,6 +123,15 @@ impl LoopSpec {
 
     /// Checks what the loop needs: see [`check_helpers`] and [`check_depth`].
     pub fn check(&self) -> Result<(), InputError> {
+        self.workload_kind
+            .check_surface(self.ocean, self.grid_kind)?;
+        if self.work_params.kind() != self.workload_kind {
+            return Err(InputError(format!(
+                "work_params: parameters of workload kind `{}` for a `{}` loop",
+                self.work_params.kind(),
+                self.workload_kind
+            )));
+        }
         crate::projected::check(
             self.grid_kind,
             self.ocean.name(),
@@ -172,8 +179,6 @@ impl LoopSpec {
             camera: self.camera,
             spacing: self.ocean.model().rest_spacing(self.grid, &self.params),
             time_step: self.time_step as f32,
-            spray: self.spray,
-            fog: self.fog.clone(),
         }
     }
 
@@ -521,7 +526,10 @@ where
             .spawn_scoped(s, move || {
                 // Built on the main thread, which alone touches it: a kind's buffers are then
                 // in that thread's memory.
-                let mut work = WorkloadKind::work(&spec.work_spec());
+                let mut work = spec
+                    .workload_kind
+                    .kind()?
+                    .build(&spec.work_spec(), &spec.work_params);
                 let work = &mut *work;
                 let mut run = match (spec.mode, spec.threading) {
                     (Mode::Serial, _) => serial::run(spec, budget, ocean, work, observe),

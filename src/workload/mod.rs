@@ -1,42 +1,29 @@
 //! What the main thread does each frame while the helper computes the mesh, behind one trait:
 //! the synthetic game work of the paper's study (a calibrated integer chain), `render`, which
 //! transforms the mesh just consumed, `spray`, particles born at its folds, and `fog`, a noise
-//! volume rebuilt and blurred each frame that gives every vertex its fog coefficient. A kind is one file here, one variant of [`WorkloadKind`]
-//! and one arm of [`WorkloadKind::work`].
+//! volume rebuilt and blurred each frame that gives every vertex its fog coefficient. A kind is
+//! its own file or folder with one descriptor ([`Kind`]) and one line in the registry
+//! (`kind::BUILT_IN`); a library user registers more with [`register`].
 
 pub mod fog;
+mod kind;
 mod render;
 pub mod spray;
 mod synthetic;
 
 pub use fog::{Fog, FogParams, FogRecord};
+pub use kind::{
+    kinds, lookup, names, register, whole_amount, DynKind, Kind, KindParams, LevelAt, WorkloadKind,
+    MAX_AMOUNT,
+};
 pub use render::Render;
 pub use spray::{Spray, SprayParams};
 pub use synthetic::{run, run_unless, Calibration, Synthetic};
 
 use crate::camera::Camera;
-use crate::input::InputError;
-use crate::ocean::{Grid, GridKind, Mesh, OceanKind};
+use crate::ocean::{Grid, Mesh};
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::AtomicBool;
-
-crate::named! {
-    /// What the main thread does each frame.
-    pub enum WorkloadKind {
-        /// The paper's game work: a chain of integer mixing, before the wait for the mesh.
-        Synthetic,
-        /// Transforms every vertex and normal of the consumed mesh into a vertex buffer with
-        /// the camera's view-projection, then spends the level's work as the cost of submitting
-        /// the frame.
-        Render,
-        /// The slides' spray: a pool of particles born where the consumed mesh folds, flown
-        /// under gravity and drag, killed below the surface or when they expire.
-        Spray,
-        /// The ocean-fog article's CPU fog: rebuilds and blurs an N³ noise volume, then gives
-        /// every vertex of the consumed mesh its fog coefficient.
-        Fog,
-    }
-}
 
 /// What a counting kind's last frame did (spray: its particles).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -118,7 +105,7 @@ impl WorkRecord {
 pub struct WorkSpec {
     /// The kind.
     pub kind: WorkloadKind,
-    /// The level in the kind's own unit ([`WorkloadKind::unit`]).
+    /// The level in the kind's own unit ([`Kind::unit`]).
     pub amount: u64,
     /// The mesh grid the work may read.
     pub grid: Grid,
@@ -128,42 +115,4 @@ pub struct WorkSpec {
     pub spacing: f32,
     /// Simulated seconds between two frames' meshes.
     pub time_step: f32,
-    /// The spray's parameters.
-    pub spray: SprayParams,
-    /// The fog's parameters, for `fog`.
-    pub fog: FogParams,
-}
-
-impl WorkloadKind {
-    /// The unit a level of this kind is counted in, as configs and results name it.
-    pub fn unit(self) -> &'static str {
-        match self {
-            WorkloadKind::Synthetic => Synthetic::UNIT,
-            WorkloadKind::Render => Render::UNIT,
-            WorkloadKind::Spray => Spray::UNIT,
-            WorkloadKind::Fog => Fog::UNIT,
-        }
-    }
-
-    /// Refuses a surface the kind cannot work on (spray needs the FFT ocean's folds on the
-    /// regular grid).
-    pub fn check_surface(self, ocean: OceanKind, grid: GridKind) -> Result<(), InputError> {
-        match self {
-            WorkloadKind::Spray => {
-                spray::check_ocean(ocean.name(), ocean.model())?;
-                spray::check_grid(grid)
-            }
-            _ => Ok(()),
-        }
-    }
-
-    /// Builds the kind's work for one loop, on the thread that will run it.
-    pub fn work(spec: &WorkSpec) -> Box<dyn Work> {
-        match spec.kind {
-            WorkloadKind::Synthetic => Box::new(Synthetic::new(spec.amount)),
-            WorkloadKind::Render => Box::new(Render::new(spec)),
-            WorkloadKind::Spray => Box::new(Spray::new(spec)),
-            WorkloadKind::Fog => Box::new(Fog::new(spec)),
-        }
-    }
 }

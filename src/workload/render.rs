@@ -13,6 +13,33 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// Vertices transformed between two looks at the stop flag: tens of microseconds.
 const CHUNK: usize = 1 << 14;
 
+/// The kind's name.
+pub(super) const NAME: &str = "render";
+
+/// The descriptor of the render workload.
+pub struct RenderKind;
+
+impl super::Kind for RenderKind {
+    type Params = ();
+
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn doc(&self) -> &'static str {
+        "Transforms every vertex and normal of the consumed mesh into a vertex buffer with the \
+         camera's view-projection, then spends the level's work as the cost of submitting the frame."
+    }
+
+    fn unit(&self) -> &'static str {
+        Render::UNIT
+    }
+
+    fn build(&self, spec: &WorkSpec, _: &()) -> Box<dyn Work> {
+        Box::new(Render::new(spec))
+    }
+}
+
 /// The render workload's state for one loop: the matrices and the vertex buffer.
 pub struct Render {
     view_projection: Mat4,
@@ -118,14 +145,12 @@ mod tests {
 
     fn spec(n: usize) -> WorkSpec {
         WorkSpec {
-            kind: WorkloadKind::Render,
+            kind: WorkloadKind::RENDER,
             amount: 0,
             grid: Grid::new(n, 1.0).unwrap(),
             camera: Camera::default(),
             spacing: 1.0,
             time_step: 1.0 / 60.0,
-            spray: crate::workload::SprayParams::default(),
-            fog: Default::default(),
         }
     }
 

@@ -82,6 +82,36 @@ impl Calibration {
     }
 }
 
+/// The kind's name.
+pub(super) const NAME: &str = "synthetic";
+
+/// The descriptor of the paper's game work.
+pub struct SyntheticKind;
+
+impl super::Kind for SyntheticKind {
+    type Params = ();
+
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn doc(&self) -> &'static str {
+        "The paper's game work: a chain of integer mixing, before the wait for the mesh."
+    }
+
+    fn unit(&self) -> &'static str {
+        Synthetic::UNIT
+    }
+
+    fn is_calibrated_chain(&self) -> bool {
+        true
+    }
+
+    fn build(&self, spec: &super::WorkSpec, _: &()) -> Box<dyn super::Work> {
+        Box::new(Synthetic::new(spec.amount))
+    }
+}
+
 /// The synthetic workload of one loop: `iterations` of the chain per frame, seeded with the
 /// frame's index.
 pub struct Synthetic {

@@ -41,17 +41,15 @@ impl Cost {
 /// Measures the fog pass at `volume` on a still `grid` seen by `camera`, on the calling thread.
 pub fn measure(params: &FogParams, grid: Grid, camera: Camera, volume: u64) -> Cost {
     let spec = WorkSpec {
-        kind: WorkloadKind::Fog,
+        kind: WorkloadKind::FOG,
         amount: volume,
         grid,
         camera,
         spacing: grid.spacing,
         time_step: 1.0 / 60.0,
-        spray: Default::default(),
-        fog: params.clone(),
     };
     let mesh = Mesh::new(grid);
-    let mut fog = Fog::new(&spec);
+    let mut fog = Fog::new(&spec, params);
     let mut records = Vec::new();
     for k in 0..=FRAMES {
         fog.run(k, Some(&mesh), None)

@@ -12,8 +12,9 @@ pub mod coefficient;
 pub mod isa;
 pub mod noise;
 
-use super::{Stopped, Work, WorkSpec};
+use super::{whole_amount, Kind, LevelAt, Stopped, Work, WorkSpec};
 use crate::input::InputError;
+use crate::machine::available_memory;
 use crate::ocean::Mesh;
 use crate::stats;
 use coefficient::View;
@@ -215,6 +216,71 @@ impl FogRecord {
     }
 }
 
+/// The kind's name, and its config key.
+pub(in crate::workload) const NAME: &str = "fog";
+
+/// The descriptor of the fog workload.
+pub struct FogKind;
+
+impl Kind for FogKind {
+    type Params = FogParams;
+
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn doc(&self) -> &'static str {
+        "The ocean-fog article's CPU fog: rebuilds and blurs an N³ noise volume, then gives every \
+         vertex of the consumed mesh its fog coefficient."
+    }
+
+    fn unit(&self) -> &'static str {
+        Fog::UNIT
+    }
+
+    fn check_params(&self, params: &FogParams) -> Result<(), InputError> {
+        params.validate()
+    }
+
+    fn check_amount(&self, field: &str, amount: f64) -> Result<(), InputError> {
+        check_volume(field, whole_amount(field, amount)?, available_memory())
+    }
+
+    /// A level in volumes is timed by its own pass; µs (or a step fraction's µs) come to the
+    /// edge whose pass takes that long, at most [`MAX_VOLUME`] (the start refuses levels beyond).
+    fn row_level(&self, params: &FogParams, at: &LevelAt, micros: f64, amount: u64) -> (f64, u64) {
+        if at.given.is_some() {
+            let cost = calibrate::measure(params, at.grid, at.camera, amount);
+            return (if amount == 0 { 0.0 } else { cost.micros() }, amount);
+        }
+        match calibrate::volume_for(params, at.grid, at.camera, micros) {
+            Ok((edge, _)) => (micros, edge),
+            Err(_) => (micros, MAX_VOLUME),
+        }
+    }
+
+    /// A volume level's µs are its pass's; a level in µs the fog cannot reach within
+    /// [`MAX_VOLUME`] is refused.
+    fn start_level(&self, params: &FogParams, at: &LevelAt, micros: f64) -> Result<f64, String> {
+        let n = at.grid.n;
+        match at.given {
+            Some(0) => Ok(micros),
+            Some(volume) => Ok(calibrate::measure(params, at.grid, at.camera, volume).micros()),
+            None => match calibrate::volume_for(params, at.grid, at.camera, micros) {
+                Ok(_) => Ok(micros),
+                Err(edge) => Err(format!(
+                    "{micros:.0} µs of fog on the {n}×{n} mesh needs a volume of about {edge}³ \
+                     on this machine; allowed up to {MAX_VOLUME}³ (fewer µs, or more octaves)"
+                )),
+            },
+        }
+    }
+
+    fn build(&self, spec: &WorkSpec, params: &FogParams) -> Box<dyn Work> {
+        Box::new(Fog::new(spec, params))
+    }
+}
+
 /// The fog of one loop: its octaves, its buffers and the camera it looks from.
 pub struct Fog {
     edge: usize,
@@ -234,18 +300,18 @@ impl Fog {
     pub const UNIT: &'static str = "volume";
 
     /// The fog of `spec`: a `spec.amount`³ volume (none at 0), seen from the camera.
-    pub fn new(spec: &WorkSpec) -> Fog {
+    pub fn new(spec: &WorkSpec, params: &FogParams) -> Fog {
         let edge = spec.amount as usize;
         let grid = spec.grid;
         let voxels = edge.pow(3);
         Fog {
             edge,
-            octaves: spec.fog.octaves(),
-            weights: blur::weights(spec.fog.blur_width as usize),
+            octaves: params.octaves(),
+            weights: blur::weights(params.blur_width as usize),
             view: View {
                 eye: spec.camera.eye(grid),
                 width: ((grid.n - 1) as f32 * grid.spacing).max(grid.spacing),
-                density: spec.fog.density,
+                density: params.density,
             },
             volume: vec![0.0; voxels],
             scratch: vec![0.0; voxels],

@@ -8,16 +8,14 @@ use ::noise::{NoiseFn, Perlin};
 
 const NOISE_TOLERANCE: f32 = noise::ORACLE_TOLERANCE;
 
-fn spec(n: usize, volume: u64, fog: FogParams) -> WorkSpec {
+fn spec(n: usize, volume: u64) -> WorkSpec {
     WorkSpec {
-        kind: WorkloadKind::Fog,
+        kind: WorkloadKind::FOG,
         amount: volume,
         grid: Grid::new(n, 1.5).unwrap(),
         camera: Camera::default(),
         spacing: 1.5,
         time_step: 1.0 / 60.0,
-        spray: Default::default(),
-        fog,
     }
 }
 
@@ -214,9 +212,9 @@ fn the_coefficient_is_one_at_the_camera_and_falls_with_density() {
 
 #[test]
 fn fog_gives_every_vertex_a_coefficient_and_moves_with_the_frame() {
-    let s = spec(24, 16, FogParams::default());
+    let s = spec(24, 16);
     let mesh = wavy(s.grid);
-    let mut fog = Fog::new(&s);
+    let mut fog = Fog::new(&s, &FogParams::default());
     fog.run(0, Some(&mesh), None).unwrap();
     let first = fog.digest();
     let f = fog.coefficients();
@@ -236,16 +234,15 @@ fn fog_gives_every_vertex_a_coefficient_and_moves_with_the_frame() {
     assert!(r.noise_ms > 0.0 && r.blur_ms > 0.0 && r.coefficient_ms > 0.0);
 
     // Denser fog, less light through it, vertex by vertex.
-    let mut dense = Fog::new(&spec(
-        24,
-        16,
-        FogParams {
+    let mut dense = Fog::new(
+        &spec(24, 16),
+        &FogParams {
             density: 8.0,
             ..FogParams::default()
         },
-    ));
+    );
     dense.run(0, Some(&mesh), None).unwrap();
-    let mut again = Fog::new(&s);
+    let mut again = Fog::new(&s, &FogParams::default());
     again.run(0, Some(&mesh), None).unwrap();
     assert_eq!(
         again.digest(),
@@ -261,15 +258,15 @@ fn fog_gives_every_vertex_a_coefficient_and_moves_with_the_frame() {
 
 #[test]
 fn volume_zero_runs_no_pass_and_a_raised_stop_flag_stops_the_frame() {
-    let s = spec(8, 0, FogParams::default());
-    let mut none = Fog::new(&s);
+    let s = spec(8, 0);
+    let mut none = Fog::new(&s, &FogParams::default());
     none.run(5, Some(&Mesh::new(s.grid)), None).unwrap();
     assert!(none.coefficients().is_empty() && none.volume().is_empty());
     assert!(none.record().is_none());
-    let s = spec(8, 8, FogParams::default());
+    let s = spec(8, 8);
     let stop = AtomicBool::new(true);
     assert_eq!(
-        Fog::new(&s).run(0, Some(&Mesh::new(s.grid)), Some(&stop)),
+        Fog::new(&s, &FogParams::default()).run(0, Some(&Mesh::new(s.grid)), Some(&stop)),
         Err(Stopped)
     );
 }

@@ -8,9 +8,10 @@ mod pool;
 
 pub use pool::{Pool, Step, Surface, BYTES_PER_PARTICLE};
 
-use super::{Stopped, Work, WorkCounts, WorkSpec};
+use super::{Kind, Stopped, Work, WorkCounts, WorkSpec};
 use crate::input::InputError;
-use crate::ocean::{Grid, GridKind, Mesh, Model};
+use crate::machine::available_memory;
+use crate::ocean::{Grid, GridKind, Mesh, Model, OceanKind};
 use crate::stats::SplitMix64;
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -163,6 +164,50 @@ pub fn check_grid(grid: GridKind) -> Result<(), InputError> {
     )))
 }
 
+/// The kind's name, and its config key.
+pub(in crate::workload) const NAME: &str = "spray";
+
+/// The descriptor of the spray workload.
+pub struct SprayKind;
+
+impl Kind for SprayKind {
+    type Params = SprayParams;
+
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn doc(&self) -> &'static str {
+        "The slides' spray: a pool of particles born where the consumed mesh folds, flown under \
+         gravity and drag, killed below the surface or when they expire."
+    }
+
+    fn unit(&self) -> &'static str {
+        Spray::UNIT
+    }
+
+    fn check_params(&self, params: &SprayParams) -> Result<(), InputError> {
+        params.validate()
+    }
+
+    fn check_amount(&self, field: &str, amount: f64) -> Result<(), InputError> {
+        check_particles(field, amount, available_memory())
+    }
+
+    fn no_time_levels(&self) -> Option<&'static str> {
+        Some("spray has no per-particle calibration")
+    }
+
+    fn check_surface(&self, ocean: OceanKind, grid: GridKind) -> Result<(), InputError> {
+        check_ocean(ocean.name(), ocean.model())?;
+        check_grid(grid)
+    }
+
+    fn build(&self, spec: &WorkSpec, params: &SprayParams) -> Box<dyn Work> {
+        Box::new(Spray::new(spec, *params))
+    }
+}
+
 /// The spray's state for one loop: the pool, the vertices folding in the last consumed mesh
 /// and where they were, the jitter's generator, and the last frame's counts.
 pub struct Spray {
@@ -191,8 +236,7 @@ impl Spray {
     pub const UNIT: &'static str = "particles";
 
     /// An empty pool of `spec.amount` particles and the buffers for `spec.grid`'s meshes.
-    pub fn new(spec: &WorkSpec) -> Spray {
-        let p = spec.spray;
+    pub fn new(spec: &WorkSpec, p: SprayParams) -> Spray {
         let dt = spec.time_step;
         let vertices = spec.grid.vertices();
         Spray {

@@ -3,16 +3,14 @@ use crate::camera::Camera;
 use crate::ocean::{FftParams, GridKind, Kernel, NormalMethod, OceanKind, OceanParams};
 use crate::workload::WorkloadKind;
 
-fn spec(n: usize, particles: u64, spray: SprayParams) -> WorkSpec {
+fn spec(n: usize, particles: u64) -> WorkSpec {
     WorkSpec {
-        kind: WorkloadKind::Spray,
+        kind: WorkloadKind::SPRAY,
         amount: particles,
         grid: Grid::new(n, 1.0).unwrap(),
         camera: Camera::default(),
         spacing: 2.0,
         time_step: 0.1,
-        spray,
-        fog: Default::default(),
     }
 }
 
@@ -59,7 +57,7 @@ fn particles_are_born_only_where_the_surface_folds_along_its_direction() {
         speed: 10.0,
         ..SprayParams::default()
     };
-    let mut spray = Spray::new(&spec(4, 8, params));
+    let mut spray = Spray::new(&spec(4, 8), params);
     let mesh = folding_mesh(4);
     spray.run(0, Some(&mesh), None).unwrap();
     assert_eq!(
@@ -82,7 +80,7 @@ fn particles_are_born_only_where_the_surface_folds_along_its_direction() {
     }
     let mut flat = mesh.clone();
     flat.fold[5] = 1.0;
-    let mut none = Spray::new(&spec(4, 8, params));
+    let mut none = Spray::new(&spec(4, 8), params);
     none.run(0, Some(&flat), None).unwrap();
     assert_eq!(none.counts().unwrap().emitted, 0, "no fold, no spray");
 }
@@ -95,7 +93,7 @@ fn a_vertex_that_moved_since_the_last_mesh_adds_its_velocity() {
         lifetime: 100.0,
         ..SprayParams::default()
     };
-    let mut spray = Spray::new(&spec(4, 4, params));
+    let mut spray = Spray::new(&spec(4, 4), params);
     let mut mesh = folding_mesh(4);
     spray.run(3, Some(&mesh), None).unwrap();
     // Two frames later (0.2 s at 0.1 s per frame) the folding vertex is 1 m higher: 5 m/s up.
@@ -120,11 +118,14 @@ fn the_fast_loop_and_the_plain_loop_fly_the_same_particles_bit_for_bit() {
         ..SprayParams::default()
     };
     let make = || {
-        Spray::new(&WorkSpec {
-            spacing,
-            time_step: 1.0 / 60.0,
-            ..spec(32, 2_003, params)
-        })
+        Spray::new(
+            &WorkSpec {
+                spacing,
+                time_step: 1.0 / 60.0,
+                ..spec(32, 2_003)
+            },
+            params,
+        )
     };
     let (mut fast, mut plain) = (make(), make());
     let mut live = 0i64;
@@ -149,10 +150,13 @@ fn frames_allocate_nothing_and_a_full_pool_emits_nothing() {
         lifetime: 1000.0,
         ..SprayParams::default()
     };
-    let mut spray = Spray::new(&WorkSpec {
-        spacing,
-        ..spec(32, 64, params)
-    });
+    let mut spray = Spray::new(
+        &WorkSpec {
+            spacing,
+            ..spec(32, 64)
+        },
+        params,
+    );
     spray.run(0, Some(&meshes[0]), None).unwrap();
     let buffers = |s: &Spray| {
         (
@@ -176,7 +180,7 @@ fn frames_allocate_nothing_and_a_full_pool_emits_nothing() {
 fn a_raised_stop_flag_stops_the_frame() {
     let mesh = folding_mesh(4);
     let stop = AtomicBool::new(true);
-    let mut spray = Spray::new(&spec(4, 8, SprayParams::default()));
+    let mut spray = Spray::new(&spec(4, 8), SprayParams::default());
     assert_eq!(spray.run(0, Some(&mesh), Some(&stop)), Err(Stopped));
 }
 
@@ -263,6 +267,6 @@ fn only_the_regular_grid_takes_spray() {
     let e = check_grid(GridKind::Projected).unwrap_err().0;
     assert!(e.starts_with("grid: spray"), "{e}");
     assert!(e.contains("`regular`") && e.contains("`projected`"), "{e}");
-    let fft = WorkloadKind::Spray.check_surface(OceanKind::Fft, GridKind::Projected);
+    let fft = WorkloadKind::SPRAY.check_surface(OceanKind::Fft, GridKind::Projected);
     assert_eq!(fft.unwrap_err().0, e);
 }
