@@ -286,6 +286,26 @@ mod tests {
     }
 
     #[test]
+    fn a_trial_with_no_step_or_round_trip_counts_in_no_median_and_gets_no_ratio() {
+        // Steps 0, 0, 1, 2, 2: the median of the measured ones is 2 (with the zeros, 1).
+        let mut facts = quiet();
+        for (f, step) in facts.iter_mut().zip([0.0, 0.0, 1.0, 2.0, 2.0]) {
+            f.breakdown = Some(breakdown(step));
+        }
+        let records = attribute(&facts, 10.0);
+        assert_eq!(records[3].step_ratio, Some(1.0));
+        assert_eq!(records[0].step_ratio, None, "no step, no ratio");
+        // Six unmeasured round trips of ten: the median of the measured ones is 122.5 ns, so a
+        // slow trial at 120-125 ns stayed where it was (with the zeros the median is 0).
+        let mut facts = quiet();
+        for f in &mut facts[..3] {
+            f.round_trip_ns = Some([0.0, 0.0]);
+        }
+        facts[3].fps = 60.0;
+        assert_eq!(causes(&facts, 3), Some(vec![Cause::Unexplained]));
+    }
+
+    #[test]
     fn a_calibration_that_ran_slow_does_not_hide_a_slowed_trial() {
         let mut facts = quiet();
         for f in &mut facts {
