@@ -73,7 +73,7 @@ fn full_step(c: &mut Criterion) {
             let grid = Grid::new(n, 1.0).unwrap();
             group.throughput(Throughput::Elements(grid.vertices() as u64));
             for kernel in [Kernel::Reference, Kernel::Fast] {
-                let mut ocean = OceanKind::Sines
+                let mut ocean = OceanKind::SINES
                     .model()
                     .prepare(grid, &params, normals, kernel)
                     .unwrap();

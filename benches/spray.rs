@@ -47,10 +47,7 @@ fn full_pool(n: usize, patch: f32) -> Pool {
 /// The 512² FFT sea at t = 10 s, the meshes of two frames, and their rest spacing.
 fn surface() -> (Vec<Mesh>, f32) {
     let grid = Grid::new(512, 1.0).unwrap();
-    let params = OceanParams {
-        fft: FftParams::default(),
-        ..OceanParams::default()
-    };
+    let params = OceanParams::default().with(FftParams::default());
     let mut ocean = FftOcean
         .prepare(grid, &params, NormalMethod::Analytic, Kernel::Reference)
         .unwrap();

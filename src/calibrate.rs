@@ -19,7 +19,7 @@ pub const DRIFT_WARNING: f64 = 0.10;
 
 /// The model whose yardstick the sweep's start record of levels (`calibration.levels`) and
 /// `step_ms` use; every other model's steps are kept in `model_step_ms`.
-pub const LEVEL_OCEAN: OceanKind = OceanKind::Sines;
+pub const LEVEL_OCEAN: OceanKind = OceanKind::SINES;
 
 /// One model's yardstick step at one size.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -259,9 +259,9 @@ mod tests {
     #[test]
     fn the_yardstick_measures_every_size_and_the_workload() {
         let points = [
-            (OceanKind::Sines, 8),
-            (OceanKind::Sines, 16),
-            (OceanKind::Fft, 16),
+            (OceanKind::SINES, 8),
+            (OceanKind::SINES, 16),
+            (OceanKind::FFT, 16),
         ];
         let y = Yardstick::measure(
             &points,
@@ -275,17 +275,17 @@ mod tests {
         assert!(y.step_of(8).unwrap() > 0.0 && y.step_of(16).unwrap() > 0.0);
         assert!(y.step_of(32).is_none());
         assert_eq!(y.model_step_ms.len(), 1);
-        assert!(y.step_for(OceanKind::Fft, 16).unwrap() > 0.0);
-        assert!(y.step_for(OceanKind::Fft, 8).is_none());
-        assert_eq!(y.step_for(OceanKind::Sines, 8), y.step_of(8));
+        assert!(y.step_for(OceanKind::FFT, 16).unwrap() > 0.0);
+        assert!(y.step_for(OceanKind::FFT, 8).is_none());
+        assert_eq!(y.step_for(OceanKind::SINES, 8), y.step_of(8));
         assert!(y.ns_per_iteration > 0.0);
         assert_eq!(
-            yardstick_points(&[OceanKind::Fft], &[16], &[Level::step_fraction(1.0, 32)]),
+            yardstick_points(&[OceanKind::FFT], &[16], &[Level::step_fraction(1.0, 32)]),
             [
-                (OceanKind::Sines, 16),
-                (OceanKind::Sines, 32),
-                (OceanKind::Fft, 16),
-                (OceanKind::Fft, 32)
+                (OceanKind::SINES, 16),
+                (OceanKind::SINES, 32),
+                (OceanKind::FFT, 16),
+                (OceanKind::FFT, 32)
             ]
         );
     }

@@ -606,8 +606,8 @@ pub struct MeshArgs {
     /// The FFT ocean's parameters file (JSON); default: the values of configs/fft-ocean.json.
     #[arg(long)]
     pub fft_params: Option<PathBuf>,
-    /// Which ocean model computes the surface.
-    #[arg(long, value_enum, default_value = "sines")]
+    /// Which ocean model computes the surface (a registered model: sines, fft, ...).
+    #[arg(long, value_parser = |s: &str| crate::ocean::OceanKind::parse(s), default_value = "sines")]
     pub ocean: crate::ocean::OceanKind,
     /// How vertex normals are computed.
     #[arg(long, value_enum, default_value = "analytic")]

@@ -7,7 +7,7 @@ use crate::camera::Camera;
 use crate::cell::{Axes, CellKey};
 use crate::frame_loop::{check_depth, check_helpers, Budget, Mode};
 pub use crate::machine::available_memory;
-use crate::ocean::{mesh, FftParams, Grid, Mesh, OceanParams, Wave, WaveSet};
+use crate::ocean::{self, mesh, FftParams, Grid, Mesh, OceanParams, Wave, WaveSet};
 use crate::suggest;
 use crate::workload::{self, DynKind, KindParams, WorkloadKind};
 use serde::{Deserialize, Serialize};
@@ -212,8 +212,9 @@ pub struct SweepConfig {
     pub balance: Option<BalanceSettings>,
     /// The camera the `render` and `fog` workloads look through.
     pub camera: Camera,
-    /// Each workload kind's config object under the kind's name (`spray`, `fog`), as given:
-    /// the kind parses and checks it ([`SweepConfig::kind_params`]).
+    /// Each workload kind's and registered ocean model's config object under its name
+    /// (`spray`, `fog`), as given: the kind or model parses and checks it
+    /// ([`SweepConfig::kind_params`], [`SweepConfig::ocean_params`]).
     #[serde(flatten)]
     pub kinds: serde_json::Map<String, serde_json::Value>,
 }
@@ -368,16 +369,20 @@ impl SweepConfig {
         }
     }
 
-    /// Every model's parameters the config asks for.
+    /// Every model's parameters the config asks for: the sines' waves, the FFT ocean's
+    /// parameters file, and each registered model's own object.
     pub fn ocean_params(&self) -> Result<OceanParams, InputError> {
         let fft = match &self.fft_params {
             Some(path) => FftParams::load(path)?,
             None => FftParams::default(),
         };
-        Ok(OceanParams {
-            waves: self.wave_set()?,
-            fft,
-        })
+        let mut params = OceanParams::default().with(self.wave_set()?).with(fft);
+        for model in ocean::models() {
+            if let Some(raw) = self.kinds.get(model.name()) {
+                model.parse_params(raw, &mut params)?;
+            }
+        }
+        Ok(params)
     }
 
     /// Workload kind `kind`'s parameters: its object in the config, or its defaults.
@@ -385,12 +390,18 @@ impl SweepConfig {
         kind.kind()?.params(self.kinds.get(kind.name()))
     }
 
-    /// Writes every registered kind's default parameters the config leaves out, so that a
-    /// results file records what each kind ran with.
+    /// Writes every registered kind's and model's default parameters the config leaves out,
+    /// so that a results file records what each ran with.
     pub fn record_kind_defaults(&mut self) {
-        for kind in workload::kinds() {
-            if let Some(params) = kind.default_params() {
-                self.kinds.entry(kind.name()).or_insert(params);
+        let kinds = workload::kinds()
+            .into_iter()
+            .map(|k| (k.name(), k.default_params()));
+        let models = ocean::models()
+            .into_iter()
+            .map(|m| (m.name(), m.default_params()));
+        for (name, params) in kinds.chain(models) {
+            if let Some(params) = params {
+                self.kinds.entry(name).or_insert(params);
             }
         }
     }
@@ -550,13 +561,16 @@ impl SweepConfig {
         }
         self.camera.validate()?;
         for name in self.kinds.keys() {
-            let kind = workload::lookup(name).ok_or_else(|| {
-                InputError(format!(
-                    "{name}: no registered workload kind has this key (registered: {})",
-                    workload::names().join(", ")
-                ))
-            })?;
-            self.kind_params(WorkloadKind::named(kind.name()))?;
+            if let Some(kind) = workload::lookup(name) {
+                self.kind_params(WorkloadKind::named(kind.name()))?;
+            } else if ocean::lookup(name).is_none() {
+                return Err(InputError(format!(
+                    "{name}: no registered workload kind or ocean model has this key \
+                     (registered: {}; {})",
+                    workload::names().join(", "),
+                    ocean::names().join(", ")
+                )));
+            }
         }
         self.ocean_params()?;
         self.placement()?;

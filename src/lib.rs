@@ -24,6 +24,7 @@ pub mod ocean;
 pub mod placement;
 pub mod projected;
 pub mod publish;
+pub mod registry;
 pub mod report;
 pub mod results;
 pub mod sched;

@@ -421,7 +421,7 @@ fn results_written_before_helpers_existed_still_load() {
         }
         assert_eq!(
             c.key.ocean,
-            OceanKind::Sines,
+            OceanKind::SINES,
             "written before the ocean dimension"
         );
     }

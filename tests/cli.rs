@@ -347,15 +347,12 @@ fn fft_mesh_csv_has_the_fold_column_and_the_model_s_surface() {
 
     let fft = FftParams::load(Path::new(&params)).unwrap();
     let grid = Grid::new(16, 1.0).unwrap();
-    let model = OceanKind::Fft.model();
+    let model = OceanKind::FFT.model();
     let mut mesh = model.mesh(grid);
     model
         .prepare(
             grid,
-            &OceanParams {
-                fft,
-                ..OceanParams::default()
-            },
+            &OceanParams::default().with(fft),
             NormalMethod::Analytic,
             Kernel::Reference,
         )
@@ -844,7 +841,7 @@ fn a_sweep_over_both_oceans_skips_the_spray_cells_on_sines_and_says_so_once() {
     assert_eq!(stderr.matches(note).count(), 1, "{stderr}");
     let results = Results::load(&out.join("results.json")).unwrap();
     let oceans: Vec<OceanKind> = results.cells.iter().map(|c| c.key.ocean).collect();
-    assert_eq!(oceans, [OceanKind::Fft]);
+    assert_eq!(oceans, [OceanKind::FFT]);
     let particles = &results.cells[0].summary.as_ref().unwrap().particles;
     assert_eq!(particles.len(), 1, "one trial's counts");
     assert!(particles[0].live_max <= 500);

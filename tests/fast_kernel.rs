@@ -287,7 +287,7 @@ fn ocean_fast_kernel_matches_reference_for_every_normal_method() {
             .into_iter()
             .zip(&mut meshes)
         {
-            let mut ocean = OceanKind::Sines
+            let mut ocean = OceanKind::SINES
                 .model()
                 .prepare(
                     grid,

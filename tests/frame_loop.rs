@@ -16,7 +16,7 @@ fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMetho
     LoopSpec {
         grid: Grid::new(9, 0.75).unwrap(),
         grid_kind: GridKind::Regular,
-        ocean: OceanKind::Sines,
+        ocean: OceanKind::SINES,
         params: OceanParams::default(),
         normals,
         kernel: Kernel::Reference,
@@ -320,7 +320,7 @@ fn split_meshes_are_bit_identical_to_serial_each_frame_once_in_order() {
 fn fft_meshes_are_bit_identical_in_every_mode_and_helper_count() {
     let fft = |mode, sync| {
         let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
-        s.ocean = OceanKind::Fft;
+        s.ocean = OceanKind::FFT;
         s.grid = Grid::new(16, 1.0).unwrap();
         s
     };
@@ -362,7 +362,7 @@ fn a_stop_ends_fft_helpers_at_their_barrier() {
                 Threading::Pool,
                 NormalMethod::Analytic,
             );
-            s.ocean = OceanKind::Fft;
+            s.ocean = OceanKind::FFT;
             s.grid = Grid::new(32, 1.0).unwrap();
             s.helper_cores = with_helpers(mode, helpers);
             let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
@@ -741,9 +741,9 @@ fn projected_meshes_are_bit_identical_in_every_mode_method_depth_and_helper_coun
     };
     let consumes = [Consume::Copy, Consume::Read, Consume::Handle];
     for (ocean, kernel, n) in [
-        (OceanKind::Sines, Kernel::Reference, 9),
-        (OceanKind::Sines, Kernel::Fast, 9),
-        (OceanKind::Fft, Kernel::Reference, 16),
+        (OceanKind::SINES, Kernel::Reference, 9),
+        (OceanKind::SINES, Kernel::Fast, 9),
+        (OceanKind::FFT, Kernel::Reference, 16),
     ] {
         let grid = Grid::new(n, 0.75).unwrap();
         let mut serial = projected(Mode::Serial, SyncMethod::Atomic, Threading::Pool);

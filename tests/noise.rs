@@ -201,13 +201,13 @@ fn step_fraction_levels_follow_each_oceans_own_yardstick() {
     use oceanbench::ocean::OceanKind;
     let mut config = tiny(vec![Mode::Serial], vec![Level::step_fraction(0.5, 32)]);
     config.axes.sizes = vec![32];
-    config.axes.ocean = vec![OceanKind::Sines, OceanKind::Fft];
+    config.axes.ocean = vec![OceanKind::SINES, OceanKind::FFT];
     config.axes.normals = vec![oceanbench::ocean::NormalMethod::Analytic];
     let results = run(config);
     let start = results.calibration.start.as_ref().unwrap();
     let (sines, fft) = (
-        start.step_for(OceanKind::Sines, 32).unwrap(),
-        start.step_for(OceanKind::Fft, 32).unwrap(),
+        start.step_for(OceanKind::SINES, 32).unwrap(),
+        start.step_for(OceanKind::FFT, 32).unwrap(),
     );
     assert!(sines > 0.0 && fft > 0.0);
     assert_eq!(results.cells.len(), 2);

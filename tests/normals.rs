@@ -4,7 +4,7 @@ use oceanbench::ocean::{Grid, Kernel, Mesh, NormalMethod, OceanKind, OceanParams
 
 fn step(n: usize, spacing: f32, t: f32, normals: NormalMethod) -> Mesh {
     let grid = Grid::new(n, spacing).unwrap();
-    let mut ocean = OceanKind::Sines
+    let mut ocean = OceanKind::SINES
         .model()
         .prepare(grid, &OceanParams::default(), normals, Kernel::Reference)
         .unwrap();
@@ -90,7 +90,7 @@ fn neighbors_approaches_analytic_as_spacing_shrinks() {
 #[test]
 fn lookup_refuses_grids_that_would_take_too_long() {
     let grid = Grid::new(512, 1.0).unwrap();
-    let err = OceanKind::Sines
+    let err = OceanKind::SINES
         .model()
         .prepare(
             grid,

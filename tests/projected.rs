@@ -15,10 +15,7 @@ use oceanbench::projected;
 
 /// The projected grid's stepper of the sines.
 fn stepper(camera: Camera, kernel: Kernel, grid: Grid, waves: &WaveSet) -> Box<dyn Stepper> {
-    let params = OceanParams {
-        waves: waves.clone(),
-        ..OceanParams::default()
-    };
+    let params = OceanParams::default().with(waves.clone());
     let analytic = NormalMethod::Analytic;
     projected::stepper(
         GridKind::Projected,
@@ -439,13 +436,10 @@ fn mesh_csv_of_the_projected_grid_has_the_regular_grid_s_columns() {
 #[test]
 fn the_fft_ocean_is_sampled_from_its_patch_repeating_without_a_seam() {
     let n = 32;
-    let params = OceanParams {
-        fft: FftParams {
-            choppiness: 1.5,
-            ..FftParams::default()
-        },
-        ..OceanParams::default()
-    };
+    let params = OceanParams::default().with(FftParams {
+        choppiness: 1.5,
+        ..FftParams::default()
+    });
     let spacing = FftOcean.rest_spacing(Grid::new(n, 1.0).unwrap(), &params);
     let patch = Grid::new(n, spacing).unwrap();
     let t = 3.25;

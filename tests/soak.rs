@@ -37,7 +37,7 @@ fn a_million_frames_per_method_none_lost() {
                 let spec = LoopSpec {
                     grid: Grid::new(2, 1.0).unwrap(),
                     grid_kind: GridKind::Regular,
-                    ocean: OceanKind::Sines,
+                    ocean: OceanKind::SINES,
                     params: OceanParams::default(),
                     normals: NormalMethod::Analytic,
                     kernel: Kernel::Reference,

@@ -34,14 +34,11 @@ fn spec(mode: Mode, sync: SyncMethod, helpers: usize) -> LoopSpec {
     LoopSpec {
         grid: Grid::new(32, 1.0).unwrap(),
         grid_kind: GridKind::Regular,
-        ocean: OceanKind::Fft,
-        params: OceanParams {
-            fft: FftParams {
-                choppiness: 3.0,
-                ..FftParams::default()
-            },
-            ..OceanParams::default()
-        },
+        ocean: OceanKind::FFT,
+        params: OceanParams::default().with(FftParams {
+            choppiness: 3.0,
+            ..FftParams::default()
+        }),
         normals: NormalMethod::Analytic,
         kernel: Kernel::Reference,
         mode,

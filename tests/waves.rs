@@ -16,14 +16,11 @@ fn one_wave(steepness: f32) -> WaveSet {
 
 fn step(waves: &WaveSet, n: usize, t: f32, normals: NormalMethod) -> Mesh {
     let grid = Grid::new(n, 1.0).unwrap();
-    let mut ocean = OceanKind::Sines
+    let mut ocean = OceanKind::SINES
         .model()
         .prepare(
             grid,
-            &OceanParams {
-                waves: waves.clone(),
-                ..OceanParams::default()
-            },
+            &OceanParams::default().with(waves.clone()),
             normals,
             Kernel::Reference,
         )

@@ -28,33 +28,42 @@ dim_values!(
     Threading,
     Consume,
     NormalMethod,
-    OceanKind,
     Kernel,
     GridKind
 );
 
-/// Workload kinds are open: a cell names any kind a results file holds, and flags and configs
-/// accept the registered ones.
-impl DimValue for WorkloadKind {
-    fn value(self) -> Value {
-        Value::Name(self.name())
-    }
-    fn from_value(value: Value) -> Option<Self> {
-        match value {
-            Value::Name(name) => Some(WorkloadKind::named(name)),
-            Value::Count(_) => None,
+/// Implements [`DimValue`] for a registry's names: a cell names any value a results file holds
+/// (a kind or model another program registered), and flags and configs accept the registered
+/// ones.
+macro_rules! registered_values {
+    ($($t:ty => $names:path),+ $(,)?) => {$(
+        impl DimValue for $t {
+            fn value(self) -> Value {
+                Value::Name(self.name())
+            }
+            fn from_value(value: Value) -> Option<Self> {
+                match value {
+                    Value::Name(name) => Some(<$t>::named(name)),
+                    Value::Count(_) => None,
+                }
+            }
+            fn parse(text: &str) -> Result<Self, InputError> {
+                <$t>::parse(text)
+            }
+            fn names() -> Option<Vec<&'static str>> {
+                Some($names())
+            }
+            fn check_known(self) -> Result<(), InputError> {
+                <$t>::parse(self.name()).map(|_| ())
+            }
         }
-    }
-    fn parse(text: &str) -> Result<Self, InputError> {
-        WorkloadKind::parse(text)
-    }
-    fn names() -> Option<Vec<&'static str>> {
-        Some(crate::workload::names())
-    }
-    fn check_known(self) -> Result<(), InputError> {
-        WorkloadKind::parse(self.name()).map(|_| ())
-    }
+    )+};
 }
+
+registered_values!(
+    WorkloadKind => crate::workload::names,
+    OceanKind => crate::ocean::names,
+);
 
 dimensions! {
     /// Mesh size N (N×N vertices).
@@ -155,12 +164,12 @@ dimensions! {
     }
     /// Which ocean model the helper computes.
     Ocean(ocean: OceanKind) {
-        config: ocean = [OceanKind::Sines],
+        config: ocean = [OceanKind::SINES],
         cells: all,
         row: true,
         label: "{}",
         title: "{} ocean",
-        quiet: OceanKind::Sines,
+        quiet: OceanKind::SINES,
     }
     /// Which kernel computes the mesh.
     Kernel(kernel: Kernel) {
@@ -418,6 +427,9 @@ mod tests {
     struct Narrow;
 
     impl Model for Narrow {
+        fn name(&self) -> &'static str {
+            "narrow"
+        }
         fn kernels(&self) -> &'static [Kernel] {
             &[Kernel::Reference]
         }
@@ -447,7 +459,7 @@ mod tests {
     #[test]
     fn a_kernel_or_normals_the_model_lacks_is_refused_by_name() {
         let (r, a) = (Kernel::Reference, NormalMethod::Analytic);
-        let ocean = OceanKind::Sines;
+        let ocean = OceanKind::SINES;
         assert!(check_offers(ocean, &Narrow, r, a).is_ok());
         let err = check_offers(ocean, &Narrow, Kernel::Fast, a).unwrap_err().0;
         assert_eq!(

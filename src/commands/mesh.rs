@@ -68,7 +68,7 @@ pub(super) fn mesh(args: MeshArgs) -> Result<(), CliError> {
         Some(path) => FftParams::load(path)?,
         None => FftParams::default(),
     };
-    let params = OceanParams { waves, fft };
+    let params = OceanParams::default().with(waves).with(fft);
     let mut ocean = crate::projected::stepper(
         args.grid,
         model,

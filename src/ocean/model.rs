@@ -4,18 +4,80 @@
 
 use super::mesh::{Grid, Mesh, MeshRows};
 use super::normals::NormalMethod;
-use super::phillips::FftParams;
-use super::waves::WaveSet;
 use crate::input::InputError;
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+use std::any::{Any, TypeId};
 use std::ops::Range;
+use std::sync::Arc;
 
-/// The run's inputs every model may read: each model takes its own.
-#[derive(Clone, Debug, Default, PartialEq)]
+/// The run's parameters of every model, one value per type: each model reads its own (the
+/// sines their [`WaveSet`](super::WaveSet), the FFT ocean its
+/// [`FftParams`](super::FftParams), a registered model whatever type it parses), and a model
+/// whose value is missing runs on its type's default.
+#[derive(Clone, Default)]
 pub struct OceanParams {
-    /// The sines' waves.
-    pub waves: WaveSet,
-    /// The FFT ocean's spectrum and choppiness.
-    pub fft: FftParams,
+    values: Vec<(TypeId, Arc<dyn Any + Send + Sync>, serde_json::Value)>,
+}
+
+impl OceanParams {
+    /// These parameters with `value` as its type's (replacing any before).
+    pub fn with<T: Serialize + Send + Sync + 'static>(mut self, value: T) -> OceanParams {
+        self.insert(value);
+        self
+    }
+
+    /// Sets `value` as its type's parameters.
+    pub fn insert<T: Serialize + Send + Sync + 'static>(&mut self, value: T) {
+        let json = serde_json::to_value(&value).unwrap_or_default();
+        self.values.retain(|(id, _, _)| *id != TypeId::of::<T>());
+        self.values.push((TypeId::of::<T>(), Arc::new(value), json));
+    }
+
+    /// The parameters of type `T`, or its default when none were given.
+    pub fn get<T: Default + Clone + 'static>(&self) -> T {
+        self.values
+            .iter()
+            .find_map(|(_, v, _)| v.downcast_ref::<T>())
+            .cloned()
+            .unwrap_or_default()
+    }
+
+    /// Parses `raw`, the config object of model `name`, into its type `T` and keeps it; an
+    /// error names `name.key`.
+    pub fn parse<T>(&mut self, name: &str, raw: &serde_json::Value) -> Result<T, InputError>
+    where
+        T: DeserializeOwned + Serialize + Clone + Send + Sync + 'static,
+    {
+        let value: T = serde_path_to_error::deserialize(raw.clone()).map_err(|e| {
+            let path = e.path().to_string();
+            let msg = crate::suggest::with_suggestion(&e.into_inner().to_string());
+            match path.as_str() {
+                "." | "" => InputError(format!("{name}: {msg}")),
+                _ => InputError(format!("{name}.{path}: {msg}")),
+            }
+        })?;
+        self.insert(value.clone());
+        Ok(value)
+    }
+}
+
+impl std::fmt::Debug for OceanParams {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list()
+            .entries(self.values.iter().map(|(_, _, json)| json))
+            .finish()
+    }
+}
+
+impl PartialEq for OceanParams {
+    fn eq(&self, other: &Self) -> bool {
+        self.values.len() == other.values.len()
+            && self
+                .values
+                .iter()
+                .all(|(id, _, json)| other.values.iter().any(|(o, _, j)| o == id && j == json))
+    }
 }
 
 crate::named! {
@@ -55,7 +117,34 @@ pub fn only_analytic_splits(normals: NormalMethod) -> Result<(), InputError> {
 
 /// What the helper computes each frame. Implementations are stateless descriptions; the
 /// per-run state lives in the [`Stepper`] that [`Model::prepare`] builds.
-pub trait Model: Sync {
+pub trait Model: Send + Sync {
+    /// Its name in configs, flags, cells and results.
+    fn name(&self) -> &'static str;
+
+    /// One line for `--help` and the docs.
+    fn doc(&self) -> &'static str {
+        ""
+    }
+
+    /// Its config object's defaults, under the config key of its name; `None` for a model with
+    /// no object of its own (the sines read `waves`, the FFT ocean `fft_params`).
+    fn default_params(&self) -> Option<serde_json::Value> {
+        None
+    }
+
+    /// Parses and checks its config object into `params` (see [`OceanParams::parse`]).
+    fn parse_params(
+        &self,
+        raw: &serde_json::Value,
+        params: &mut OceanParams,
+    ) -> Result<(), InputError> {
+        let _ = (raw, params);
+        Err(InputError(format!(
+            "{}: this ocean takes no object of its own",
+            self.name()
+        )))
+    }
+
     /// The kernels it runs, in the order it lists them.
     fn kernels(&self) -> &'static [Kernel];
 

@@ -8,8 +8,8 @@ use super::{Work, WorkSpec};
 use crate::camera::Camera;
 use crate::input::InputError;
 use crate::ocean::{Grid, GridKind, OceanKind};
+use crate::registry::{Entry, Registry};
 use crate::suggest;
-use parking_lot::RwLock;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use std::any::Any;
@@ -35,7 +35,7 @@ impl WorkloadKind {
 
     /// The kind called `name`, registered or not (results name kinds other binaries ran).
     pub fn named(name: &str) -> WorkloadKind {
-        WorkloadKind(intern(name))
+        WorkloadKind(KINDS.intern(name))
     }
 
     /// The registered kind called `text`, or an error listing the registered ones.
@@ -348,79 +348,40 @@ fn typed<K: Kind>(params: &KindParams) -> &K::Params {
     })
 }
 
-/// The built-in kinds, in the order `--help` lists them.
-static BUILT_IN: [&dyn DynKind; 4] = [
-    &super::synthetic::SyntheticKind,
-    &super::render::RenderKind,
-    &super::spray::SprayKind,
-    &super::fog::FogKind,
-];
+impl Entry for dyn DynKind {
+    fn entry_name(&self) -> &'static str {
+        self.name()
+    }
+}
 
-/// Kinds a library user registered, after the built-in ones.
-static REGISTERED: RwLock<Vec<&'static dyn DynKind>> = RwLock::new(Vec::new());
-
-/// Names read from results files that no kind here has: kept once each.
-static STRANGERS: RwLock<Vec<&'static str>> = RwLock::new(Vec::new());
+/// The built-in kinds, in the order `--help` lists them, then the registered ones.
+static KINDS: Registry<dyn DynKind> = Registry::new(
+    "workload kind",
+    &[
+        &super::synthetic::SyntheticKind,
+        &super::render::RenderKind,
+        &super::spray::SprayKind,
+        &super::fog::FogKind,
+    ],
+);
 
 /// Registers a kind for this process: configs, flags and sweeps then know it by name. Refuses
 /// a name already taken.
 pub fn register<K: Kind>(kind: K) -> Result<WorkloadKind, InputError> {
-    let mut registered = REGISTERED.write();
-    let name = Kind::name(&kind);
-    if BUILT_IN
-        .iter()
-        .chain(registered.iter())
-        .any(|k| k.name() == name)
-    {
-        return Err(InputError(format!(
-            "workload kind `{name}` is registered already"
-        )));
-    }
-    if name.is_empty()
-        || !name
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
-    {
-        return Err(InputError(format!(
-            "workload kind `{name}`: a name is letters, digits, '-' and '_'"
-        )));
-    }
-    registered.push(Box::leak(Box::new(kind)));
-    Ok(WorkloadKind(name))
+    KINDS.register(Box::leak(Box::new(kind))).map(WorkloadKind)
 }
 
 /// Every registered kind, the built-in ones first.
 pub fn kinds() -> Vec<&'static dyn DynKind> {
-    BUILT_IN
-        .iter()
-        .copied()
-        .chain(REGISTERED.read().iter().copied())
-        .collect()
+    KINDS.all()
 }
 
 /// The registered kind called `name`.
 pub fn lookup(name: &str) -> Option<&'static dyn DynKind> {
-    kinds().into_iter().find(|k| k.name() == name)
+    KINDS.lookup(name)
 }
 
 /// Every registered kind's name.
 pub fn names() -> Vec<&'static str> {
-    kinds().iter().map(|k| k.name()).collect()
-}
-
-/// `name` as a `'static` string: a registered kind's own, or one kept for the process.
-fn intern(name: &str) -> &'static str {
-    if let Some(k) = lookup(name) {
-        return k.name();
-    }
-    if let Some(&s) = STRANGERS.read().iter().find(|&&s| s == name) {
-        return s;
-    }
-    let mut strangers = STRANGERS.write();
-    if let Some(&s) = strangers.iter().find(|&&s| s == name) {
-        return s;
-    }
-    let kept: &'static str = Box::leak(name.to_owned().into_boxed_str());
-    strangers.push(kept);
-    kept
+    KINDS.names()
 }

@@ -3,7 +3,7 @@
 //! transforms the mesh just consumed, `spray`, particles born at its folds, and `fog`, a noise
 //! volume rebuilt and blurred each frame that gives every vertex its fog coefficient. A kind is
 //! its own file or folder with one descriptor ([`Kind`]) and one line in the registry
-//! (`kind::BUILT_IN`); a library user registers more with [`register`].
+//! (`kind::KINDS`); a library user registers more with [`register`].
 
 pub mod fog;
 mod kind;

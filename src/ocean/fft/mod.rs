@@ -15,6 +15,7 @@ mod tests;
 use super::mesh::{Grid, Mesh, MeshRows};
 use super::model::{GridKind, Kernel, Model, OceanParams, Stepper};
 use super::normals::{FaceNormals, NormalMethod};
+use super::phillips::FftParams;
 use crate::input::InputError;
 use fill::{Fill, Source};
 use parking_lot::RwLock;
@@ -31,6 +32,14 @@ use transform::{Inverse2d, Strips, STRIP};
 pub struct FftOcean;
 
 impl Model for FftOcean {
+    fn name(&self) -> &'static str {
+        "fft"
+    }
+
+    fn doc(&self) -> &'static str {
+        "Tessendorf's FFT ocean: a Phillips spectrum, choppy displacement and folds."
+    }
+
     /// `reference`: eight fields from four transforms, checked against the direct sum of
     /// [`Spectrum::fields_f64`] in the tests; `fast`: the same heights and displacements from
     /// two of them, slopes and the Jacobian's diagonal from differences ([`fill`]).
@@ -68,7 +77,7 @@ impl Model for FftOcean {
     }
 
     fn rest_spacing(&self, grid: Grid, params: &OceanParams) -> f32 {
-        (params.fft.patch_metres / grid.n as f64) as f32
+        (params.get::<FftParams>().patch_metres / grid.n as f64) as f32
     }
 
     /// The patch repeats without a seam, so it can be sampled at any point of the plane.
@@ -109,12 +118,13 @@ impl FftOcean {
         kernel: Kernel,
     ) -> Result<FftState, InputError> {
         self.check(grid.n, normals)?;
-        params.fft.validate()?;
-        let spectrum = Spectrum::new(&params.fft, grid.n);
+        let fft = params.get::<FftParams>();
+        fft.validate()?;
+        let spectrum = Spectrum::new(&fft, grid.n);
         Ok(FftState::with_kernel(
             &spectrum,
-            params.fft.patch_metres,
-            params.fft.choppiness,
+            fft.patch_metres,
+            fft.choppiness,
             normals,
             kernel,
         ))

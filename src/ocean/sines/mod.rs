@@ -15,6 +15,14 @@ use crate::input::InputError;
 pub struct Sines;
 
 impl Model for Sines {
+    fn name(&self) -> &'static str {
+        "sines"
+    }
+
+    fn doc(&self) -> &'static str {
+        "The paper's sum of four sine waves with exponent."
+    }
+
     fn kernels(&self) -> &'static [Kernel] {
         &[Kernel::Reference, Kernel::Fast]
     }
@@ -61,13 +69,13 @@ impl Model for Sines {
     ) -> Result<Box<dyn Stepper>, InputError> {
         let mut state = SinesState::new(
             grid,
-            params.waves.clone(),
+            params.get::<WaveSet>(),
             NormalMethod::Analytic,
             Kernel::Reference,
         );
         state.kernel = kernel;
-        state.points =
-            (kernel == Kernel::Fast).then(|| fast::points::PointsKernel::new(&params.waves));
+        state.points = (kernel == Kernel::Fast)
+            .then(|| fast::points::PointsKernel::new(&params.get::<WaveSet>()));
         Ok(Box::new(state))
     }
 
@@ -86,7 +94,7 @@ impl Model for Sines {
         self.check(grid.n, normals)?;
         Ok(Box::new(SinesState::new(
             grid,
-            params.waves.clone(),
+            params.get::<WaveSet>(),
             normals,
             kernel,
         )))

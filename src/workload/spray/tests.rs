@@ -29,14 +29,11 @@ fn folding_mesh(n: usize) -> Mesh {
 /// `frames` − 1 at 1/60 s apart, and their rest spacing.
 fn fft_meshes(n: usize, frames: u64) -> (Vec<Mesh>, f32) {
     let grid = Grid::new(n, 1.0).unwrap();
-    let params = OceanParams {
-        fft: FftParams {
-            choppiness: 3.0,
-            ..FftParams::default()
-        },
-        ..OceanParams::default()
-    };
-    let model = OceanKind::Fft.model();
+    let params = OceanParams::default().with(FftParams {
+        choppiness: 3.0,
+        ..FftParams::default()
+    });
+    let model = OceanKind::FFT.model();
     let mut ocean = model
         .prepare(grid, &params, NormalMethod::Analytic, Kernel::Reference)
         .unwrap();
@@ -251,8 +248,8 @@ fn particle_counts_must_be_whole_positive_and_fit_in_memory() {
 
 #[test]
 fn only_a_folding_ocean_takes_spray() {
-    assert!(check_ocean("fft", OceanKind::Fft.model()).is_ok());
-    let e = check_ocean("sines", OceanKind::Sines.model())
+    assert!(check_ocean("fft", OceanKind::FFT.model()).is_ok());
+    let e = check_ocean("sines", OceanKind::SINES.model())
         .unwrap_err()
         .0;
     assert!(
@@ -267,6 +264,6 @@ fn only_the_regular_grid_takes_spray() {
     let e = check_grid(GridKind::Projected).unwrap_err().0;
     assert!(e.starts_with("grid: spray"), "{e}");
     assert!(e.contains("`regular`") && e.contains("`projected`"), "{e}");
-    let fft = WorkloadKind::SPRAY.check_surface(OceanKind::Fft, GridKind::Projected);
+    let fft = WorkloadKind::SPRAY.check_surface(OceanKind::FFT, GridKind::Projected);
     assert_eq!(fft.unwrap_err().0, e);
 }
