@@ -154,7 +154,20 @@ fn an_interrupted_sweep_keeps_finished_rows_and_resumes_to_the_same_cells() {
         done.calibration, partial.calibration,
         "resume keeps the calibration"
     );
-    assert_eq!(&done.cells[..6], &partial.cells[..]);
+    // The finished rows come back as they were measured; only each trial's placement label may
+    // differ, since the resumed rows' round trips join the run's split (one placement can
+    // become near and far).
+    let unlabelled = |cells: &[oceanbench::results::Cell]| {
+        let mut cells = cells.to_vec();
+        for t in cells
+            .iter_mut()
+            .flat_map(|c| c.trials.iter_mut().chain(c.set_aside.iter_mut()))
+        {
+            t.placement = None;
+        }
+        cells
+    };
+    assert_eq!(unlabelled(&done.cells[..6]), unlabelled(&partial.cells));
 }
 
 /// `fog` beside `synthetic` at the same µs: each fog row's level comes to a volume edge through
