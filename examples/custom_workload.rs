@@ -215,18 +215,16 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
             "buoyancy": {"hull_points": 8}
         }"#,
     )?;
-    let out = std::env::args()
-        .nth(1)
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            let stamp = humantime::format_rfc3339_seconds(std::time::SystemTime::now())
-                .to_string()
-                .replace(['-', ':'], "");
-            PathBuf::from(format!(
-                "results/custom-workload-{}",
-                stamp.trim_end_matches('Z')
-            ))
-        });
+    let out = match std::env::args().nth(1) {
+        Some(dir) => PathBuf::from(dir),
+        None => {
+            let stamp: String = oceanbench::sweep::utc_now()
+                .chars()
+                .filter(char::is_ascii_alphanumeric)
+                .collect();
+            PathBuf::from(format!("results/custom-workload-{stamp}"))
+        }
+    };
     std::fs::create_dir_all(&out)?;
     let results = oceanbench::sweep::Sweep::prepare(config)?.run(&mut ());
     oceanbench::report::write_all(&out, &results)?;
