@@ -1,10 +1,13 @@
 //! Every mode × threading × hand-off delivers the same meshes as the serial loop, each frame
 //! exactly once and in order.
 
+mod common;
+
+use common::{describe, helper_cores, threaded_modes};
 use oceanbench::affinity;
 use oceanbench::camera::Camera;
 use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
-use oceanbench::ocean::{Grid, GridKind, Kernel, Mesh, NormalMethod, OceanKind, OceanParams};
+use oceanbench::ocean::{Grid, GridKind, Kernel, Mesh, NormalMethod, OceanKind};
 use oceanbench::sync::{Policy, SyncMethod};
 use oceanbench::workload::{KindParams, WorkloadKind};
 use std::time::Duration;
@@ -12,38 +15,12 @@ use std::time::Duration;
 const FRAMES: u64 = 300;
 
 fn spec(mode: Mode, sync: SyncMethod, threading: Threading, normals: NormalMethod) -> LoopSpec {
-    let cores = affinity::allowed_cores();
     LoopSpec {
-        grid: Grid::new(9, 0.75).unwrap(),
-        grid_kind: GridKind::Regular,
-        ocean: OceanKind::SINES,
-        params: OceanParams::default(),
         normals,
-        kernel: Kernel::Reference,
-        mode,
-        policy: Policy::Fifo,
-        sync,
         threading,
-        workload_kind: WorkloadKind::SYNTHETIC,
         workload_amount: 50,
-        camera: Camera::default(),
-        work_params: KindParams::default_for(WorkloadKind::SYNTHETIC).unwrap(),
-        depth: 1,
-        consume: Consume::Copy,
-        main_core: cores[0],
-        helper_cores: with_helpers(mode, 1),
-        time_step: 1.0 / 60.0,
-        timeout: Duration::from_secs(20),
-        stop: None,
-        stall_at_frame: None,
+        ..common::loop_spec(mode, sync)
     }
-}
-
-/// The cores of `helpers` helpers in `mode`, from the second allowed core on in dp.
-fn with_helpers(mode: Mode, helpers: usize) -> Vec<usize> {
-    let cores = affinity::allowed_cores();
-    let helper = if mode == Mode::Dp { cores[1] } else { cores[0] };
-    frame_loop::helper_cores(mode, cores[0], helper, helpers)
 }
 
 /// Every frame the main thread received: its index and a full copy of the render buffer.
@@ -65,15 +42,6 @@ fn frames(spec: &LoopSpec) -> Vec<(u64, Mesh)> {
     seen
 }
 
-fn modes() -> Vec<Mode> {
-    if affinity::allowed_cores().len() >= 2 {
-        vec![Mode::Up, Mode::Dp]
-    } else {
-        eprintln!("only one core allowed: dp is not exercised here");
-        vec![Mode::Up]
-    }
-}
-
 #[test]
 fn threaded_meshes_are_bit_identical_to_serial_each_frame_once_in_order() {
     for normals in [NormalMethod::Analytic, NormalMethod::Neighbors] {
@@ -87,7 +55,7 @@ fn threaded_meshes_are_bit_identical_to_serial_each_frame_once_in_order() {
         assert_eq!(indices, (0..FRAMES).collect::<Vec<_>>());
         // The surface moves: consecutive frames differ.
         assert_ne!(serial[0].1.z, serial[1].1.z);
-        for mode in modes() {
+        for mode in threaded_modes() {
             for threading in [Threading::Pool, Threading::Spawn] {
                 for sync in SyncMethod::of_policy(Policy::Fifo) {
                     let got = frames(&spec(mode, sync, threading, normals));
@@ -136,7 +104,7 @@ fn pipelined_meshes_are_bit_identical_to_serial_for_every_depth_and_consumption(
             serial_run.trial.checksum.is_some(),
             consume == Consume::Read
         );
-        for mode in modes() {
+        for mode in threaded_modes() {
             for sync in SyncMethod::of_policy(Policy::Fifo) {
                 for depth in 1..=frame_loop::MAX_DEPTH {
                     let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
@@ -172,7 +140,7 @@ fn split_meshes_run_ahead_too() {
         Threading::Pool,
         NormalMethod::Analytic,
     ));
-    for mode in modes() {
+    for mode in threaded_modes() {
         for consume in [Consume::Read, Consume::Handle] {
             let mut s = spec(
                 mode,
@@ -181,7 +149,7 @@ fn split_meshes_run_ahead_too() {
                 NormalMethod::Analytic,
             );
             (s.depth, s.consume) = (2, consume);
-            s.helper_cores = with_helpers(mode, 2);
+            s.helper_cores = helper_cores(mode, 2);
             let got = frames(&s);
             for ((k, mesh), (_, smesh)) in got.iter().zip(&serial) {
                 assert!(mesh == smesh, "{mode:?} {consume:?}: frame {k} differs");
@@ -195,7 +163,7 @@ fn split_meshes_run_ahead_too() {
 #[test]
 fn frame_times_add_up_to_the_wall_time() {
     let mut all = vec![(Mode::Serial, Threading::Pool)];
-    for mode in modes() {
+    for mode in threaded_modes() {
         all.extend([(mode, Threading::Pool), (mode, Threading::Spawn)]);
     }
     for (mode, threading) in all {
@@ -264,7 +232,7 @@ fn warmup_frames_are_run_but_not_measured() {
 
 #[test]
 fn pins_are_recorded_for_both_threads() {
-    for mode in modes() {
+    for mode in threaded_modes() {
         let s = spec(
             mode,
             SyncMethod::Condvar,
@@ -292,12 +260,12 @@ fn split_meshes_are_bit_identical_to_serial_each_frame_once_in_order() {
         );
         serial_spec.kernel = kernel;
         let serial = frames(&serial_spec);
-        for mode in modes() {
+        for mode in threaded_modes() {
             for sync in SyncMethod::of_policy(Policy::Fifo) {
                 for helpers in [2, 3] {
                     let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
                     s.kernel = kernel;
-                    s.helper_cores = with_helpers(mode, helpers);
+                    s.helper_cores = helper_cores(mode, helpers);
                     let got = frames(&s);
                     let indices: Vec<u64> = got.iter().map(|(k, _)| *k).collect();
                     assert_eq!(indices, (0..FRAMES).collect::<Vec<_>>());
@@ -326,7 +294,7 @@ fn fft_meshes_are_bit_identical_in_every_mode_and_helper_count() {
     };
     let serial = frames(&fft(Mode::Serial, SyncMethod::Atomic));
     assert!(serial.windows(2).all(|w| w[0].1 != w[1].1), "the sea moves");
-    for mode in modes() {
+    for mode in threaded_modes() {
         for sync in [
             SyncMethod::Atomic,
             SyncMethod::Condvar,
@@ -334,7 +302,7 @@ fn fft_meshes_are_bit_identical_in_every_mode_and_helper_count() {
         ] {
             for (helpers, depth) in [(1, 1), (2, 1), (3, 1), (2, 2)] {
                 let mut s = fft(mode, sync);
-                s.helper_cores = with_helpers(mode, helpers);
+                s.helper_cores = helper_cores(mode, helpers);
                 s.depth = depth;
                 let got = frames(&s);
                 let indices: Vec<u64> = got.iter().map(|(k, _)| *k).collect();
@@ -354,7 +322,7 @@ fn fft_meshes_are_bit_identical_in_every_mode_and_helper_count() {
 /// never as a helper stuck at the phase barrier (its shutdown breaks the barrier).
 #[test]
 fn a_stop_ends_fft_helpers_at_their_barrier() {
-    for mode in modes() {
+    for mode in threaded_modes() {
         for helpers in [2, 3] {
             let mut s = spec(
                 mode,
@@ -364,7 +332,7 @@ fn a_stop_ends_fft_helpers_at_their_barrier() {
             );
             s.ocean = OceanKind::FFT;
             s.grid = Grid::new(32, 1.0).unwrap();
-            s.helper_cores = with_helpers(mode, helpers);
+            s.helper_cores = helper_cores(mode, helpers);
             let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
             s.stop = Some(stop.clone());
             let got = frame_loop::run(&s, &Budget::exact(1000), |k, _| {
@@ -384,14 +352,14 @@ fn a_stop_ends_fft_helpers_at_their_barrier() {
 #[test]
 fn every_helper_is_pinned_to_its_core() {
     let cores = affinity::allowed_cores();
-    for mode in modes() {
+    for mode in threaded_modes() {
         let mut s = spec(
             mode,
             SyncMethod::Condvar,
             Threading::Pool,
             NormalMethod::Analytic,
         );
-        s.helper_cores = with_helpers(mode, 3);
+        s.helper_cores = helper_cores(mode, 3);
         if mode == Mode::Dp {
             // Cycling from the helper core on wraps through every allowed core.
             assert_eq!(s.helper_cores[0], cores[1]);
@@ -413,7 +381,7 @@ fn every_helper_is_pinned_to_its_core() {
 fn unsupported_helper_counts_are_refused_with_the_reason() {
     let refused = |threading, normals, helpers| {
         let mut s = spec(Mode::Up, SyncMethod::Atomic, threading, normals);
-        s.helper_cores = with_helpers(Mode::Up, helpers);
+        s.helper_cores = helper_cores(Mode::Up, helpers);
         match frame_loop::run(&s, &Budget::exact(1), |_, _| {}) {
             Err(frame_loop::LoopError::Spec(e)) => e.to_string(),
             other => panic!("expected a spec error, got {:?}", other.map(|_| ())),
@@ -432,7 +400,7 @@ fn unsupported_helper_counts_are_refused_with_the_reason() {
 /// A threaded spec whose helpers stop producing at `frame`, with a short hand-off timeout.
 fn stalling(mode: Mode, threading: Threading, helpers: usize, frame: u64) -> LoopSpec {
     let mut s = spec(mode, SyncMethod::Atomic, threading, NormalMethod::Analytic);
-    s.helper_cores = with_helpers(mode, helpers);
+    s.helper_cores = helper_cores(mode, helpers);
     s.stall_at_frame = Some(frame);
     s.timeout = Duration::from_millis(300);
     s
@@ -441,7 +409,7 @@ fn stalling(mode: Mode, threading: Threading, helpers: usize, frame: u64) -> Loo
 /// The stalled helper never returns, so a loop that joined it would never return either.
 #[test]
 fn a_helper_stalled_mid_trial_times_out_and_is_left_behind() {
-    for mode in modes() {
+    for mode in threaded_modes() {
         for (threading, helpers) in [
             (Threading::Pool, 1),
             (Threading::Pool, 2),
@@ -468,7 +436,7 @@ fn a_helper_stalled_mid_trial_times_out_and_is_left_behind() {
 /// reached it first, or the main thread gives up after the timeout and leaves it behind.
 #[test]
 fn a_helper_stalled_after_the_last_frame_is_left_behind() {
-    for mode in modes() {
+    for mode in threaded_modes() {
         for helpers in [1, 2] {
             for depth in 1..=frame_loop::MAX_DEPTH {
                 // Whether the shutdown wins is a race: a few tries see both outcomes.
@@ -493,7 +461,7 @@ fn a_helper_stalled_after_the_last_frame_is_left_behind() {
 #[test]
 fn a_raised_stop_flag_interrupts_every_loop() {
     let mut loops = vec![(Mode::Serial, Threading::Pool, 1)];
-    for mode in modes() {
+    for mode in threaded_modes() {
         loops.extend([
             (mode, Threading::Pool, 1),
             (mode, Threading::Pool, 2),
@@ -502,7 +470,7 @@ fn a_raised_stop_flag_interrupts_every_loop() {
     }
     for (mode, threading, helpers) in loops {
         let mut s = spec(mode, SyncMethod::Condvar, threading, NormalMethod::Analytic);
-        s.helper_cores = with_helpers(mode, helpers);
+        s.helper_cores = helper_cores(mode, helpers);
         s.stop = Some(std::sync::Arc::new(std::sync::atomic::AtomicBool::new(
             true,
         )));
@@ -526,7 +494,7 @@ fn a_raised_stop_flag_interrupts_every_loop() {
 #[test]
 fn latest_meshes_are_the_serial_mesh_of_their_index_and_indices_never_decrease() {
     for sync in SyncMethod::of_policy(Policy::Latest) {
-        for mode in modes() {
+        for mode in threaded_modes() {
             for consume in [Consume::Copy, Consume::Handle] {
                 let mut s = spec(mode, sync, Threading::Pool, NormalMethod::Analytic);
                 s.policy = Policy::Latest;
@@ -588,7 +556,7 @@ fn latest_refuses_fifo_methods_depth_helpers_and_spawn() {
     s.depth = 2;
     assert!(refused(s).starts_with("depth: 2"));
     let mut s = base();
-    s.helper_cores = with_helpers(Mode::Up, 2);
+    s.helper_cores = helper_cores(Mode::Up, 2);
     assert!(refused(s).starts_with("helpers: "));
     let mut s = base();
     s.threading = Threading::Spawn;
@@ -608,7 +576,7 @@ fn latest_makes_progress_with_a_slow_helper_and_with_a_slow_main_thread() {
         max_seconds: 30.0,
     };
     for sync in SyncMethod::of_policy(Policy::Latest) {
-        for mode in modes() {
+        for mode in threaded_modes() {
             // (helper's grid, main's workload iterations): a 96×96 mesh with neighbour
             // normals against next to no work, and a 9×9 mesh against a long chain.
             for (n, iterations, slow) in [(96, 50, "helper"), (9, 300_000, "main")] {
@@ -661,15 +629,7 @@ fn render_draws_the_same_vertex_buffer_in_every_mode_depth_consumption_method_an
     let serial = || analytic(Mode::Serial, SyncMethod::Atomic, Threading::Pool);
     // The digest of the buffer after `frames` frames, the last mesh index shown, and the cell.
     let render = |s: LoopSpec, frames: u64| {
-        let what = format!(
-            "{:?} {:?} {:?} d{} {:?} h{}",
-            s.mode,
-            s.policy,
-            s.sync,
-            s.depth,
-            s.consume,
-            s.helpers()
-        );
+        let what = describe(&s);
         let mut last = None;
         let run = frame_loop::run(&s, &Budget::exact(frames), |k, _| last = Some(k))
             .unwrap_or_else(|e| panic!("{what}: {e}"));
@@ -683,7 +643,7 @@ fn render_draws_the_same_vertex_buffer_in_every_mode_depth_consumption_method_an
     let mut slower = serial();
     slower.time_step *= 2.0;
     assert_ne!(render(slower, FEW).0, expect, "the buffer follows the mesh");
-    for mode in modes() {
+    for mode in threaded_modes() {
         for consume in [Consume::Copy, Consume::Read, Consume::Handle] {
             let mut cells = Vec::new();
             for depth in 1..=frame_loop::MAX_DEPTH {
@@ -695,7 +655,7 @@ fn render_draws_the_same_vertex_buffer_in_every_mode_depth_consumption_method_an
             cells.push((analytic(mode, SyncMethod::Condvar, Threading::Pool), 2, 3));
             for (mut s, depth, helpers) in cells {
                 (s.depth, s.consume) = (depth, consume);
-                s.helper_cores = with_helpers(mode, helpers);
+                s.helper_cores = helper_cores(mode, helpers);
                 let (digest, _, what) = render(s, FEW);
                 assert_eq!(digest, expect, "{what}");
             }
@@ -751,12 +711,12 @@ fn projected_meshes_are_bit_identical_in_every_mode_method_depth_and_helper_coun
         let serial = collect(&serial);
         assert_ne!(serial[0].1.x, serial[1].1.x, "the grid follows the camera");
         let mut runs = 0;
-        for mode in modes() {
+        for mode in threaded_modes() {
             for (m, sync) in SyncMethod::of_policy(Policy::Fifo).enumerate() {
                 for helpers in 1..=3 {
                     let mut s = projected(mode, sync, Threading::Pool);
                     (s.kernel, s.ocean, s.grid) = (kernel, ocean, grid);
-                    s.helper_cores = with_helpers(mode, helpers);
+                    s.helper_cores = helper_cores(mode, helpers);
                     s.depth = 1 + (m + helpers) % frame_loop::MAX_DEPTH;
                     s.consume = consumes[(m + helpers) % consumes.len()];
                     let what = format!(
@@ -829,7 +789,7 @@ fn fog_fields_are_the_same_in_every_mode_depth_consumption_and_method() {
     let mut slower = fog(Mode::Serial, SyncMethod::Atomic);
     slower.time_step *= 2.0;
     assert_ne!(field(slower).0, expect, "the fog follows the mesh");
-    for mode in modes() {
+    for mode in threaded_modes() {
         for consume in [Consume::Copy, Consume::Read, Consume::Handle] {
             for (sync, depth) in [(SyncMethod::Atomic, 1), (SyncMethod::Condvar, 2)] {
                 let mut s = fog(mode, sync);

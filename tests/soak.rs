@@ -8,12 +8,11 @@
 //! VM's wake-up is about 50 µs) and `spin` on one core (a scheduler tick per hand-off) keep the
 //! whole soak within CI's budget; every method is still soaked for at least `MIN_FRAMES`.
 
-use oceanbench::affinity;
-use oceanbench::camera::Camera;
-use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
-use oceanbench::ocean::{Grid, GridKind, Kernel, NormalMethod, OceanKind, OceanParams};
+mod common;
+
+use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode};
+use oceanbench::ocean::Grid;
 use oceanbench::sync::{Policy, SyncMethod};
-use oceanbench::workload::{KindParams, WorkloadKind};
 use std::time::Duration;
 
 /// Frames per run at depths 1, 2 and 3.
@@ -26,46 +25,20 @@ const MIN_FRAMES: u64 = 50_000;
 #[test]
 #[ignore = "soak: about six minutes; run by .ci/run"]
 fn a_million_frames_per_method_none_lost() {
-    let cores = affinity::allowed_cores();
-    let mut modes = vec![Mode::Up];
-    if cores.len() > 1 {
-        modes.push(Mode::Dp);
-    }
+    let modes = common::threaded_modes();
     for (depth, frames_wanted) in (1..).zip(FRAMES) {
         for mode in modes.iter().copied() {
             for sync in SyncMethod::of_policy(Policy::Fifo) {
                 let spec = LoopSpec {
                     grid: Grid::new(2, 1.0).unwrap(),
-                    grid_kind: GridKind::Regular,
-                    ocean: OceanKind::SINES,
-                    params: OceanParams::default(),
-                    normals: NormalMethod::Analytic,
-                    kernel: Kernel::Reference,
-                    mode,
-                    policy: Policy::Fifo,
-                    sync,
-                    threading: Threading::Pool,
-                    workload_kind: WorkloadKind::SYNTHETIC,
-                    workload_amount: 0,
-                    camera: Camera::default(),
-                    work_params: KindParams::default_for(WorkloadKind::SYNTHETIC).unwrap(),
                     depth,
                     consume: if depth == 1 {
                         Consume::Copy
                     } else {
                         Consume::Handle
                     },
-                    main_core: cores[0],
-                    helper_cores: frame_loop::helper_cores(
-                        mode,
-                        cores[0],
-                        if mode == Mode::Dp { cores[1] } else { cores[0] },
-                        1,
-                    ),
-                    time_step: 1.0 / 60.0,
                     timeout: Duration::from_secs(10),
-                    stop: None,
-                    stall_at_frame: None,
+                    ..common::loop_spec(mode, sync)
                 };
                 let spin_on_one_core = mode == Mode::Up && sync == SyncMethod::Spin;
                 let what = format!("{mode:?} {sync:?} depth {depth}");

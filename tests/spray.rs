@@ -2,16 +2,14 @@
 //! helper count, consumption and depth; at depth > 1 and under `latest` the spray flew over the
 //! meshes the results say it consumed. Its command-line input is tested in `tests/cli.rs`.
 
-use oceanbench::affinity;
-use oceanbench::camera::Camera;
-use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode, Threading};
-use oceanbench::ocean::{
-    FftParams, Grid, GridKind, Kernel, Mesh, NormalMethod, OceanKind, OceanParams,
-};
+mod common;
+
+use common::{describe, helper_cores, threaded_modes};
+use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode};
+use oceanbench::ocean::{FftParams, Grid, Mesh, OceanKind, OceanParams};
 use oceanbench::sync::{Policy, SyncMethod};
 use oceanbench::workload::spray::SprayKind;
 use oceanbench::workload::{KindParams, SprayParams, WorkloadKind};
-use std::time::Duration;
 
 const FRAMES: u64 = 30;
 
@@ -29,57 +27,24 @@ fn spray_params(params: SprayParams) -> KindParams {
 
 /// A steep FFT sea (choppiness 3: it folds at N = 32) with spray on the main thread.
 fn spec(mode: Mode, sync: SyncMethod, helpers: usize) -> LoopSpec {
-    let cores = affinity::allowed_cores();
-    let helper = if mode == Mode::Dp { cores[1] } else { cores[0] };
     LoopSpec {
         grid: Grid::new(32, 1.0).unwrap(),
-        grid_kind: GridKind::Regular,
         ocean: OceanKind::FFT,
         params: OceanParams::default().with(FftParams {
             choppiness: 3.0,
             ..FftParams::default()
         }),
-        normals: NormalMethod::Analytic,
-        kernel: Kernel::Reference,
-        mode,
-        policy: Policy::Fifo,
-        sync,
-        threading: Threading::Pool,
         workload_kind: WorkloadKind::SPRAY,
         workload_amount: 3_000,
-        camera: Camera::default(),
         work_params: spray_params(SprayParams::default()),
-        depth: 1,
-        consume: Consume::Copy,
-        main_core: cores[0],
-        helper_cores: frame_loop::helper_cores(mode, cores[0], helper, helpers),
-        time_step: 1.0 / 60.0,
-        timeout: Duration::from_secs(20),
-        stop: None,
-        stall_at_frame: None,
-    }
-}
-
-fn modes() -> Vec<Mode> {
-    if affinity::allowed_cores().len() >= 2 {
-        vec![Mode::Up, Mode::Dp]
-    } else {
-        eprintln!("only one core allowed: dp is not exercised here");
-        vec![Mode::Up]
+        helper_cores: helper_cores(mode, helpers),
+        ..common::loop_spec(mode, sync)
     }
 }
 
 /// The spray's digest after the frames, and the mesh frame each frame consumed.
 fn fly(s: &LoopSpec) -> (u64, Vec<u64>) {
-    let what = format!(
-        "{:?} {:?} {:?} d{} {:?} h{}",
-        s.mode,
-        s.policy,
-        s.sync,
-        s.depth,
-        s.consume,
-        s.helpers()
-    );
+    let what = describe(s);
     let run = frame_loop::run(s, &Budget::exact(FRAMES), |_, _| {})
         .unwrap_or_else(|e| panic!("{what}: {e}"));
     let frames = &run.trial.frames;
@@ -129,7 +94,7 @@ fn every_mode_method_helper_count_and_consumption_flies_the_same_particles_at_de
         let mut s = serial.clone();
         s.consume = consume;
         assert_eq!(fly(&s).0, expect, "serial {consume:?}");
-        for mode in modes() {
+        for mode in threaded_modes() {
             for sync in SyncMethod::of_policy(Policy::Fifo) {
                 let mut s = spec(mode, sync, 1);
                 s.consume = consume;
@@ -151,7 +116,7 @@ fn every_mode_method_helper_count_and_consumption_flies_the_same_particles_at_de
 #[test]
 fn the_spray_flies_over_the_meshes_the_records_say_it_consumed() {
     let (serial, _) = fly(&spec(Mode::Serial, SyncMethod::Atomic, 1));
-    for mode in modes() {
+    for mode in threaded_modes() {
         for (sync, depth) in [
             (SyncMethod::Atomic, 2),
             (SyncMethod::Condvar, 3),

@@ -1,13 +1,20 @@
 //! What the integration tests share: the binary, run from the checkout or a folder of the test's;
-//! the checks on its refusals; and the committed fixture run.
+//! the checks on its refusals; the committed fixture run; and frame-loop specs for this machine.
 
 // Each test file is its own crate and uses a part of this module; the rest would warn there.
 #![allow(dead_code)]
 
+use oceanbench::affinity;
+use oceanbench::camera::Camera;
+use oceanbench::frame_loop::{self, Consume, LoopSpec, Mode, Threading};
+use oceanbench::ocean::{Grid, GridKind, Kernel, NormalMethod, OceanKind, OceanParams};
 use oceanbench::results::Results;
+use oceanbench::sync::{Policy, SyncMethod};
+use oceanbench::workload::{KindParams, WorkloadKind};
 use std::ffi::OsStr;
 use std::path::Path;
 use std::process::{Command, Output};
+use std::time::Duration;
 
 /// The quick run committed as a fixture: a small sweep's results.json, a path and an argument.
 pub const FIXTURE: &str = concat!(
@@ -92,4 +99,62 @@ pub fn assert_input_error(out: &Output, needles: &[&str]) -> String {
 #[track_caller]
 pub fn refuses(args: &[&str], needles: &[&str]) -> String {
     assert_input_error(&oceanbench(args), needles)
+}
+
+/// The threaded modes this machine can run: DP needs a second allowed core.
+pub fn threaded_modes() -> Vec<Mode> {
+    if affinity::allowed_cores().len() >= 2 {
+        vec![Mode::Up, Mode::Dp]
+    } else {
+        eprintln!("only one core allowed: dp is not exercised here");
+        vec![Mode::Up]
+    }
+}
+
+/// The cores of `helpers` helpers in `mode`: the main thread's core, or the second one in DP.
+pub fn helper_cores(mode: Mode, helpers: usize) -> Vec<usize> {
+    let cores = affinity::allowed_cores();
+    let helper = if mode == Mode::Dp { cores[1] } else { cores[0] };
+    frame_loop::helper_cores(mode, cores[0], helper, helpers)
+}
+
+/// A one-helper, depth-1 loop of a small sines sea with no workload: tests set what they vary.
+pub fn loop_spec(mode: Mode, sync: SyncMethod) -> LoopSpec {
+    LoopSpec {
+        grid: Grid::new(9, 0.75).unwrap(),
+        grid_kind: GridKind::Regular,
+        ocean: OceanKind::SINES,
+        params: OceanParams::default(),
+        normals: NormalMethod::Analytic,
+        kernel: Kernel::Reference,
+        mode,
+        policy: Policy::Fifo,
+        sync,
+        threading: Threading::Pool,
+        workload_kind: WorkloadKind::SYNTHETIC,
+        workload_amount: 0,
+        camera: Camera::default(),
+        work_params: KindParams::default_for(WorkloadKind::SYNTHETIC).unwrap(),
+        depth: 1,
+        consume: Consume::Copy,
+        main_core: affinity::allowed_cores()[0],
+        helper_cores: helper_cores(mode, 1),
+        time_step: 1.0 / 60.0,
+        timeout: Duration::from_secs(20),
+        stop: None,
+        stall_at_frame: None,
+    }
+}
+
+/// The loop's cell in a line, for failure messages.
+pub fn describe(s: &LoopSpec) -> String {
+    format!(
+        "{:?} {:?} {:?} d{} {:?} h{}",
+        s.mode,
+        s.policy,
+        s.sync,
+        s.depth,
+        s.consume,
+        s.helpers()
+    )
 }
