@@ -14,7 +14,7 @@ use oceanbench::camera::Camera;
 use oceanbench::ocean::Kernel;
 use oceanbench::ocean::{FftOcean, FftParams, Grid, Mesh, Model, NormalMethod, OceanParams};
 use oceanbench::workload::spray::{Pool, Step, Surface};
-use oceanbench::workload::{Spray, SprayParams, Work, WorkSpec, WorkloadKind};
+use oceanbench::workload::{MeshWork, Spray, SprayParams, WorkSpec, WorkloadKind};
 
 const SIZES: [usize; 3] = [32_768, 131_072, 524_288];
 const DT: f32 = 1.0 / 60.0;
@@ -105,12 +105,12 @@ fn particles(c: &mut Criterion) {
         let mut k = 0u64;
         for _ in 0..120 {
             k += 1;
-            spray.run(k, Some(&meshes[(k % 2) as usize]), None).unwrap();
+            spray.run(k, &meshes[(k % 2) as usize], None).unwrap();
         }
         group.bench_with_input(BenchmarkId::new("whole frame", n), &n, |b, _| {
             b.iter(|| {
                 k += 1;
-                spray.run(k, Some(&meshes[(k % 2) as usize]), None).unwrap()
+                spray.run(k, &meshes[(k % 2) as usize], None).unwrap()
             })
         });
     }

@@ -10,7 +10,9 @@
 
 use oceanbench::config::{InputError, SweepConfig};
 use oceanbench::ocean::Mesh;
-use oceanbench::workload::{self, fold_digest, whole_amount, Kind, Stopped, Work, WorkSpec};
+use oceanbench::workload::{
+    self, fold_digest, whole_amount, Kind, MeshWork, Stopped, Work, WorkOutput, WorkSpec,
+};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -87,8 +89,8 @@ impl Kind for Buoyancy {
         Some("buoyancy has no per-body calibration")
     }
 
-    fn build(&self, spec: &WorkSpec, params: &BuoyancyParams) -> Box<dyn Work> {
-        Box::new(Floating::new(spec, params))
+    fn build(&self, spec: &WorkSpec, params: &BuoyancyParams) -> Work {
+        Work::on_mesh(Floating::new(spec, params))
     }
 }
 
@@ -154,18 +156,14 @@ fn height(mesh: &Mesh, u: f32, v: f32) -> f32 {
     bottom * (1.0 - fv) + top * fv
 }
 
-impl Work for Floating {
-    fn reads_mesh(&self) -> bool {
-        true
+impl WorkOutput for Floating {
+    fn digest(&self) -> u64 {
+        fold_digest(1, self.bodies.iter().map(|b| u64::from(b.z.to_bits())))
     }
+}
 
-    fn run(
-        &mut self,
-        _k: u64,
-        mesh: Option<&Mesh>,
-        stop: Option<&AtomicBool>,
-    ) -> Result<(), Stopped> {
-        let mesh = mesh.expect("a kind that reads the mesh is given it");
+impl MeshWork for Floating {
+    fn run(&mut self, _k: u64, mesh: &Mesh, stop: Option<&AtomicBool>) -> Result<(), Stopped> {
         let share = 1.0 / self.hull.len() as f32;
         for (b, body) in self.bodies.iter_mut().enumerate() {
             if b % 4096 == 0 && stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
@@ -184,10 +182,6 @@ impl Work for Floating {
             body.z += body.speed * self.dt;
         }
         Ok(())
-    }
-
-    fn digest(&self) -> u64 {
-        fold_digest(1, self.bodies.iter().map(|b| u64::from(b.z.to_bits())))
     }
 }
 

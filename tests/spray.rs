@@ -9,7 +9,7 @@ use oceanbench::frame_loop::{self, Budget, Consume, LoopSpec, Mode};
 use oceanbench::ocean::{FftParams, Grid, Mesh, OceanKind, OceanParams};
 use oceanbench::sync::{Policy, SyncMethod};
 use oceanbench::workload::spray::SprayKind;
-use oceanbench::workload::{KindParams, SprayParams, WorkloadKind};
+use oceanbench::workload::{KindParams, SprayParams, Work, WorkloadKind};
 
 const FRAMES: u64 = 30;
 
@@ -66,14 +66,17 @@ fn replay(s: &LoopSpec, indices: &[u64]) -> u64 {
     let mut ocean = model
         .prepare(s.grid, &s.params, s.normals, s.kernel)
         .unwrap();
-    let mut work = WorkloadKind::SPRAY
+    let Work::OnMesh(mut work) = WorkloadKind::SPRAY
         .kind()
         .unwrap()
-        .build(&s.work_spec(), &s.work_params);
+        .build(&s.work_spec(), &s.work_params)
+    else {
+        panic!("spray runs on the consumed mesh")
+    };
     let mut mesh: Mesh = model.mesh(s.grid);
     for &k in indices {
         ocean.step((k as f64 * s.time_step) as f32, &mut mesh);
-        work.run(k, Some(&mesh), None).unwrap();
+        work.run(k, &mesh, None).unwrap();
     }
     work.digest()
 }

@@ -9,7 +9,8 @@ use oceanbench::ocean::Mesh;
 use oceanbench::results::Results;
 use oceanbench::sweep::Sweep;
 use oceanbench::workload::{
-    self, fold_digest, whole_amount, Kind, Stopped, Work, WorkSpec, WorkloadKind,
+    self, fold_digest, whole_amount, Kind, MeshWork, Stopped, Work, WorkOutput, WorkSpec,
+    WorkloadKind,
 };
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::AtomicBool;
@@ -59,8 +60,8 @@ impl Kind for Tally {
         Some("tally has no per-pass calibration")
     }
 
-    fn build(&self, spec: &WorkSpec, p: &TallyParams) -> Box<dyn Work> {
-        Box::new(TallyWork {
+    fn build(&self, spec: &WorkSpec, p: &TallyParams) -> Work {
+        Work::on_mesh(TallyWork {
             passes: spec.amount,
             step: p.step,
             sum: 0,
@@ -74,22 +75,19 @@ struct TallyWork {
     sum: u64,
 }
 
-impl Work for TallyWork {
-    fn reads_mesh(&self) -> bool {
-        true
+impl WorkOutput for TallyWork {
+    fn digest(&self) -> u64 {
+        self.sum
     }
+}
 
-    fn run(&mut self, k: u64, mesh: Option<&Mesh>, _: Option<&AtomicBool>) -> Result<(), Stopped> {
-        let mesh = mesh.expect("a kind that reads the mesh is given it");
+impl MeshWork for TallyWork {
+    fn run(&mut self, k: u64, mesh: &Mesh, _: Option<&AtomicBool>) -> Result<(), Stopped> {
         for _ in 0..self.passes {
             self.sum = fold_digest(self.sum, mesh.z.iter().map(|z| u64::from(z.to_bits())));
         }
         self.sum = self.sum.wrapping_add(k * u64::from(self.step));
         Ok(())
-    }
-
-    fn digest(&self) -> u64 {
-        self.sum
     }
 }
 
@@ -157,7 +155,7 @@ impl Kind for SpraySquatter {
     fn unit(&self) -> &'static str {
         "drops"
     }
-    fn build(&self, spec: &WorkSpec, _: &()) -> Box<dyn Work> {
+    fn build(&self, spec: &WorkSpec, _: &()) -> Work {
         Tally.build(spec, &TallyParams::default())
     }
 }

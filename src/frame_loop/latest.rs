@@ -11,7 +11,7 @@ use super::consume;
 use super::frames::FrameCounter;
 use super::pool::{drive, Helpers, Stop};
 use super::slots::{ns, timed};
-use super::{Budget, LoopError, LoopRun, LoopSpec};
+use super::{Budget, LoopError, LoopSpec, Measured};
 use crate::measure::FrameRecord;
 use crate::ocean::{Mesh, Stepper};
 use crate::sync::{MailboxIn, MailboxOut};
@@ -48,9 +48,9 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
     ocean: Box<dyn Stepper>,
-    work: &mut dyn Work,
+    work: &mut Work,
     mut observe: F,
-) -> Result<LoopRun, LoopError> {
+) -> Result<Measured, LoopError> {
     let now = Instant::now();
     let blank = Frame {
         mesh: spec.blank_mesh(),
@@ -142,7 +142,7 @@ fn consume<F: FnMut(u64, &Mesh)>(
     if let Some(sum) = read {
         frames.read(sum);
     }
-    let on_mesh = spec.work_on_mesh(&mut **work, index, consumed)?;
+    let on_mesh = spec.work_on_mesh(work, index, consumed)?;
     observe(index, consumed);
     let t3 = Instant::now();
     let ahead = shared
@@ -160,7 +160,7 @@ fn consume<F: FnMut(u64, &Mesh)>(
         age_ns: ns(t2.saturating_duration_since(frame.published)),
         latency_ns: ns(t2.saturating_duration_since(frame.started)),
         mesh_frame: index,
-        work_counts: work.counts(),
+        work_counts: work.output().counts(),
         ..FrameRecord::default()
     })
 }
@@ -172,7 +172,7 @@ struct MainSide<'w> {
     /// The index of the mesh consumed the frame before.
     last: Option<u64>,
     /// The main thread's work.
-    work: &'w mut dyn Work,
+    work: &'w mut Work,
 }
 
 /// Takes the newest published mesh, if one came since the last take; before the first, waits

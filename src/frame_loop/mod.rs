@@ -182,28 +182,23 @@ impl LoopSpec {
         }
     }
 
-    /// Frame k's work if it does not read the mesh, run before the wait so that it overlaps the
-    /// helper's step; `Interrupted` when a stop request arrived meanwhile.
-    fn work_before_wait(&self, work: &mut dyn Work, k: u64) -> Result<(), LoopError> {
-        if work.reads_mesh() {
+    /// Frame k's work if it runs before the wait, so that it overlaps the helper's step;
+    /// `Interrupted` when a stop request arrived meanwhile.
+    fn work_before_wait(&self, work: &mut Work, k: u64) -> Result<(), LoopError> {
+        let Work::BeforeWait(work) = work else {
             return Ok(());
-        }
-        work.run(k, None, self.stop.as_deref())
+        };
+        work.run(k, self.stop.as_deref())
             .map_err(|_| LoopError::Interrupted)
     }
 
-    /// Frame k's work if it reads the mesh, on the mesh the frame consumed; how long it took.
-    fn work_on_mesh(
-        &self,
-        work: &mut dyn Work,
-        k: u64,
-        mesh: &Mesh,
-    ) -> Result<Duration, LoopError> {
-        if !work.reads_mesh() {
+    /// Frame k's work if it runs on the mesh the frame consumed; how long it took.
+    fn work_on_mesh(&self, work: &mut Work, k: u64, mesh: &Mesh) -> Result<Duration, LoopError> {
+        let Work::OnMesh(work) = work else {
             return Ok(Duration::ZERO);
-        }
+        };
         let started = Instant::now();
-        work.run(k, Some(mesh), self.stop.as_deref())
+        work.run(k, mesh, self.stop.as_deref())
             .map_err(|_| LoopError::Interrupted)?;
         Ok(started.elapsed())
     }
@@ -418,13 +413,34 @@ pub struct LoopRun {
     pub helper_pins: Vec<Pin>,
     /// The digest of what the main thread's work produced in the last frame.
     pub work_digest: u64,
-    /// What the main thread's work recorded of itself ([`Work::record`]).
+    /// What the main thread's work recorded of itself ([`crate::workload::WorkOutput::record`]).
     pub work_record: Option<WorkRecord>,
     /// Each thread's run delay and preemptions, and each core's steal, during the loop.
     pub noise: TrialNoise,
 }
 
+/// What a loop measured, before the work's digest and record join it in [`run`].
+pub(crate) struct Measured {
+    trial: Trial,
+    main_pin: Pin,
+    helper_pins: Vec<Pin>,
+    noise: TrialNoise,
+}
+
 impl LoopRun {
+    /// The loop's outcome: what it measured, and what its work says of itself.
+    fn of(measured: Measured, work: &Work) -> LoopRun {
+        let output = work.output();
+        LoopRun {
+            trial: measured.trial,
+            main_pin: measured.main_pin,
+            helper_pins: measured.helper_pins,
+            work_digest: output.digest(),
+            work_record: output.record(),
+            noise: measured.noise,
+        }
+    }
+
     /// Whether every pin of the loop held.
     pub fn pinned(&self) -> bool {
         self.main_pin.held && self.helper_pins.iter().all(|p| p.held)
@@ -530,8 +546,8 @@ where
                     .workload_kind
                     .kind()?
                     .build(&spec.work_spec(), &spec.work_params);
-                let work = &mut *work;
-                let mut run = match (spec.mode, spec.threading) {
+                let work = &mut work;
+                let measured = match (spec.mode, spec.threading) {
                     (Mode::Serial, _) => serial::run(spec, budget, ocean, work, observe),
                     _ if spec.policy == Policy::Latest => {
                         latest::run(spec, budget, ocean, work, observe)
@@ -539,9 +555,7 @@ where
                     (_, Threading::Pool) => pool::run(spec, budget, ocean, work, observe),
                     (_, Threading::Spawn) => spawn::run(spec, budget, ocean, work, observe),
                 }?;
-                run.work_digest = work.digest();
-                run.work_record = work.record();
-                Ok(run)
+                Ok(LoopRun::of(measured, work))
             })
             .map_err(|e| LoopError::Helper(e.to_string()))?
             .join()

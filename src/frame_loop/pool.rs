@@ -5,7 +5,7 @@
 use super::barrier::Broken;
 use super::frames::FrameCounter;
 use super::slots::{consume, produce, timed, Shared};
-use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
+use super::{Budget, CoreWatch, LoopError, LoopSpec, Measured, ThreadWatch};
 use crate::affinity::{self, Pin};
 use crate::measure::FrameRecord;
 use crate::ocean::{Mesh, Stepper};
@@ -111,7 +111,7 @@ pub(super) fn drive<S: Stop>(
     budget: &Budget,
     start: impl FnOnce() -> Result<Helpers<S>, LoopError>,
     mut frame: impl FnMut(&mut FrameCounter, &S) -> Result<FrameRecord, LoopError>,
-) -> Result<LoopRun, LoopError> {
+) -> Result<Measured, LoopError> {
     let main_pin = affinity::pin_current(spec.main_core);
     let (cores, main) = (CoreWatch::start(spec), ThreadWatch::start(spec.main_core));
     let helpers = start()?;
@@ -128,12 +128,10 @@ pub(super) fn drive<S: Stop>(
         helper_pins.push(pin);
         threads.push(noise);
     }
-    Ok(LoopRun {
+    Ok(Measured {
         trial: frames.trial(),
         main_pin,
         helper_pins,
-        work_digest: 0,
-        work_record: None,
         noise: cores.stop(threads),
     })
 }
@@ -143,9 +141,9 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
     ocean: Box<dyn Stepper>,
-    work: &mut dyn Work,
+    work: &mut Work,
     mut observe: F,
-) -> Result<LoopRun, LoopError> {
+) -> Result<Measured, LoopError> {
     // Each helper gets its own stepper (the fast kernel keeps per-band tables in it), split
     // from the cell's so that a model whose phases read each other's bands shares that state.
     let start = || {

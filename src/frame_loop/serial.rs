@@ -4,7 +4,7 @@
 use super::consume;
 use super::frames::FrameCounter;
 use super::slots::ns;
-use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
+use super::{Budget, CoreWatch, LoopError, LoopSpec, Measured, ThreadWatch};
 use crate::affinity;
 use crate::measure::FrameRecord;
 use crate::ocean::{Mesh, Stepper};
@@ -16,9 +16,9 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
     mut ocean: Box<dyn Stepper>,
-    work: &mut dyn Work,
+    work: &mut Work,
     mut observe: F,
-) -> Result<LoopRun, LoopError> {
+) -> Result<Measured, LoopError> {
     let main_pin = affinity::pin_current(spec.main_core);
     let (cores, main) = (CoreWatch::start(spec), ThreadWatch::start(spec.main_core));
     let mut mesh = spec.blank_mesh();
@@ -47,19 +47,17 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
             // The mesh is used in the frame it was computed in, from the step's start.
             latency_ns: ns(t2 - t1),
             mesh_frame: k,
-            work_counts: work.counts(),
+            work_counts: work.output().counts(),
             ..FrameRecord::default()
         };
         if frames.finish(record, spec)? {
             break;
         }
     }
-    Ok(LoopRun {
+    Ok(Measured {
         trial: frames.trial(),
         main_pin,
         helper_pins: Vec::new(),
-        work_digest: 0,
-        work_record: None,
         noise: cores.stop(vec![main.stop("main".into())]),
     })
 }

@@ -258,7 +258,7 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
     shared: &Shared,
     render: &mut Mesh,
     held: &mut u64,
-    work: &mut dyn Work,
+    work: &mut Work,
     observe: &mut F,
 ) -> Result<FrameRecord, LoopError> {
     let k = frames.frame;
@@ -356,7 +356,7 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
         age_ns: published.map_or(0, |p| ns(t2.saturating_duration_since(p))),
         latency_ns: ns(t2.saturating_duration_since(started)),
         mesh_frame: k,
-        work_counts: work.counts(),
+        work_counts: work.output().counts(),
     })
 }
 

@@ -3,7 +3,7 @@
 
 use super::frames::FrameCounter;
 use super::slots::{consume, produce, timed, Shared};
-use super::{Budget, CoreWatch, LoopError, LoopRun, LoopSpec, ThreadWatch};
+use super::{Budget, CoreWatch, LoopError, LoopSpec, Measured, ThreadWatch};
 use crate::affinity::{self, Pin};
 use crate::ocean::{Mesh, Stepper};
 use crate::sched::ThreadNoise;
@@ -17,9 +17,9 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
     ocean: Box<dyn Stepper>,
-    work: &mut dyn Work,
+    work: &mut Work,
     mut observe: F,
-) -> Result<LoopRun, LoopError> {
+) -> Result<Measured, LoopError> {
     let main_pin = affinity::pin_current(spec.main_core);
     let (cores, main) = (CoreWatch::start(spec), ThreadWatch::start(spec.main_core));
     let core = spec.helper_cores[0];
@@ -84,12 +84,10 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
             break;
         }
     }
-    Ok(LoopRun {
+    Ok(Measured {
         trial: frames.trial(),
         main_pin,
         helper_pins: vec![helpers],
-        work_digest: 0,
-        work_record: None,
         noise: cores.stop(vec![main.stop("main".into()), suffered]),
     })
 }

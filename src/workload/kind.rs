@@ -179,7 +179,7 @@ pub trait Kind: Send + Sync + 'static {
     }
 
     /// Builds its work for one loop, on the thread that will run it.
-    fn build(&self, spec: &WorkSpec, params: &Self::Params) -> Box<dyn Work>;
+    fn build(&self, spec: &WorkSpec, params: &Self::Params) -> Work;
 }
 
 /// Largest amount a level may give in a kind's unit: a whole number an f64 holds exactly.
@@ -269,7 +269,7 @@ pub trait DynKind: Send + Sync {
     /// See [`Kind::start_level`].
     fn start_level(&self, params: &KindParams, at: &LevelAt, micros: f64) -> Result<f64, String>;
     /// See [`Kind::build`].
-    fn build(&self, spec: &WorkSpec, params: &KindParams) -> Box<dyn Work>;
+    fn build(&self, spec: &WorkSpec, params: &KindParams) -> Work;
 }
 
 impl<K: Kind> DynKind for K {
@@ -331,7 +331,7 @@ impl<K: Kind> DynKind for K {
         Kind::start_level(self, typed::<K>(params), at, micros)
     }
 
-    fn build(&self, spec: &WorkSpec, params: &KindParams) -> Box<dyn Work> {
+    fn build(&self, spec: &WorkSpec, params: &KindParams) -> Work {
         Kind::build(self, spec, typed::<K>(params))
     }
 }

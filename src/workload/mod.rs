@@ -40,22 +40,8 @@ pub struct WorkCounts {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Stopped;
 
-/// A frame's worth of main-thread work.
-pub trait Work: Send {
-    /// Whether the work reads the mesh the frame consumed. One that does not runs before the
-    /// wait for the mesh, overlapping the helper's step (the paper's place); one that does runs
-    /// after the consume step, on the consumed mesh, before its slot is released.
-    fn reads_mesh(&self) -> bool;
-
-    /// Frame `k`'s work. `mesh` is the frame's consumed mesh when [`Work::reads_mesh`], else
-    /// `None`. Looks at `stop` every hundred microseconds or so of work.
-    fn run(
-        &mut self,
-        k: u64,
-        mesh: Option<&Mesh>,
-        stop: Option<&AtomicBool>,
-    ) -> Result<(), Stopped>;
-
+/// What every kind's work says of itself after a frame.
+pub trait WorkOutput: Send {
     /// A digest of what the last frame's work produced, to check that every mode, method and
     /// depth produces the same (not called while measuring).
     fn digest(&self) -> u64;
@@ -72,7 +58,55 @@ pub trait Work: Send {
     }
 }
 
-/// Folds `values` into a digest from `seed`: what [`Work::digest`] implementations hash with.
+/// Work that runs before the wait for the mesh, overlapping the helper's step (the paper's
+/// place).
+pub trait FrameWork: WorkOutput {
+    /// Frame `k`'s work. Looks at `stop` every hundred microseconds or so of work.
+    fn run(&mut self, k: u64, stop: Option<&AtomicBool>) -> Result<(), Stopped>;
+}
+
+/// Work that runs on the mesh the frame consumed: after the consume step, before the mesh's
+/// slot is released.
+pub trait MeshWork: WorkOutput {
+    /// Frame `k`'s work on `mesh`. Looks at `stop` every hundred microseconds or so of work.
+    fn run(&mut self, k: u64, mesh: &Mesh, stop: Option<&AtomicBool>) -> Result<(), Stopped>;
+}
+
+/// A frame's worth of main-thread work, by where in the frame it runs.
+pub enum Work {
+    /// Before the wait for the mesh.
+    BeforeWait(Box<dyn FrameWork>),
+    /// On the consumed mesh.
+    OnMesh(Box<dyn MeshWork>),
+}
+
+impl Work {
+    /// Work run before the wait.
+    pub fn before_wait(work: impl FrameWork + 'static) -> Work {
+        Work::BeforeWait(Box::new(work))
+    }
+
+    /// Work run on the consumed mesh.
+    pub fn on_mesh(work: impl MeshWork + 'static) -> Work {
+        Work::OnMesh(Box::new(work))
+    }
+
+    /// Whether it reads the mesh the frame consumed.
+    pub fn reads_mesh(&self) -> bool {
+        matches!(self, Work::OnMesh(_))
+    }
+
+    /// What it says of itself.
+    pub fn output(&self) -> &dyn WorkOutput {
+        match self {
+            Work::BeforeWait(w) => &**w,
+            Work::OnMesh(w) => &**w,
+        }
+    }
+}
+
+/// Folds `values` into a digest from `seed`: what [`WorkOutput::digest`] implementations hash
+/// with.
 pub fn fold_digest(seed: u64, values: impl Iterator<Item = u64>) -> u64 {
     values.fold(seed, |h, v| {
         (h.rotate_left(5) ^ v).wrapping_mul(0x9E37_79B9_7F4A_7C15)

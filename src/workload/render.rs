@@ -5,7 +5,7 @@
 //! iterations of the synthetic chain as the fixed cost of submitting the frame.
 
 use super::synthetic::run_unless;
-use super::{Stopped, Work, WorkSpec};
+use super::{MeshWork, Stopped, Work, WorkOutput, WorkSpec};
 use crate::ocean::Mesh;
 use glam::{Mat3, Mat4, Vec3, Vec4};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -35,8 +35,8 @@ impl super::Kind for RenderKind {
         Render::UNIT
     }
 
-    fn build(&self, spec: &WorkSpec, _: &()) -> Box<dyn Work> {
-        Box::new(Render::new(spec))
+    fn build(&self, spec: &WorkSpec, _: &()) -> Work {
+        Work::on_mesh(Render::new(spec))
     }
 }
 
@@ -97,18 +97,19 @@ impl Render {
     }
 }
 
-impl Work for Render {
-    fn reads_mesh(&self) -> bool {
-        true
+impl WorkOutput for Render {
+    fn digest(&self) -> u64 {
+        let bits = self
+            .positions
+            .iter()
+            .flat_map(|p| p.to_array())
+            .chain(self.normals.iter().flat_map(|n| n.to_array()));
+        super::fold_digest(self.frame, bits.map(|v| u64::from(v.to_bits())))
     }
+}
 
-    fn run(
-        &mut self,
-        k: u64,
-        mesh: Option<&Mesh>,
-        stop: Option<&AtomicBool>,
-    ) -> Result<(), Stopped> {
-        let mesh = mesh.expect("render reads the consumed mesh");
+impl MeshWork for Render {
+    fn run(&mut self, k: u64, mesh: &Mesh, stop: Option<&AtomicBool>) -> Result<(), Stopped> {
         assert_eq!(
             mesh.x.len(),
             self.positions.len(),
@@ -124,15 +125,6 @@ impl Work for Render {
         run_unless(self.submit_iterations, k, stop).ok_or(Stopped)?;
         self.frame = k;
         Ok(())
-    }
-
-    fn digest(&self) -> u64 {
-        let bits = self
-            .positions
-            .iter()
-            .flat_map(|p| p.to_array())
-            .chain(self.normals.iter().flat_map(|n| n.to_array()));
-        super::fold_digest(self.frame, bits.map(|v| u64::from(v.to_bits())))
     }
 }
 
@@ -164,7 +156,7 @@ mod tests {
         mesh.nz.fill(1.0);
         mesh.nx[7] = 0.5;
         let mut r = Render::new(&s);
-        r.run(3, Some(&mesh), None).unwrap();
+        r.run(3, &mesh, None).unwrap();
         let vp = s.camera.view_projection(s.grid);
         let view = s.camera.view(s.grid);
         let (pos, nrm) = r.buffer();
@@ -177,7 +169,7 @@ mod tests {
         }
         let before = r.digest();
         mesh.z[12_345] += 1.0;
-        r.run(3, Some(&mesh), None).unwrap();
+        r.run(3, &mesh, None).unwrap();
         assert_ne!(r.digest(), before, "the digest sees one vertex move");
     }
 
@@ -186,9 +178,6 @@ mod tests {
         let s = spec(8);
         let mesh = Mesh::new(s.grid);
         let stop = AtomicBool::new(true);
-        assert_eq!(
-            Render::new(&s).run(0, Some(&mesh), Some(&stop)),
-            Err(Stopped)
-        );
+        assert_eq!(Render::new(&s).run(0, &mesh, Some(&stop)), Err(Stopped));
     }
 }

@@ -107,8 +107,8 @@ impl super::Kind for SyntheticKind {
         true
     }
 
-    fn build(&self, spec: &super::WorkSpec, _: &()) -> Box<dyn super::Work> {
-        Box::new(Synthetic::new(spec.amount))
+    fn build(&self, spec: &super::WorkSpec, _: &()) -> super::Work {
+        super::Work::before_wait(Synthetic::new(spec.amount))
     }
 }
 
@@ -132,22 +132,15 @@ impl Synthetic {
     }
 }
 
-impl super::Work for Synthetic {
-    fn reads_mesh(&self) -> bool {
-        false
-    }
-
-    fn run(
-        &mut self,
-        k: u64,
-        _mesh: Option<&crate::ocean::Mesh>,
-        stop: Option<&AtomicBool>,
-    ) -> Result<(), super::Stopped> {
-        self.last = run_unless(self.iterations, k, stop).ok_or(super::Stopped)?;
-        Ok(())
-    }
-
+impl super::WorkOutput for Synthetic {
     fn digest(&self) -> u64 {
         self.last
+    }
+}
+
+impl super::FrameWork for Synthetic {
+    fn run(&mut self, k: u64, stop: Option<&AtomicBool>) -> Result<(), super::Stopped> {
+        self.last = run_unless(self.iterations, k, stop).ok_or(super::Stopped)?;
+        Ok(())
     }
 }

@@ -7,7 +7,7 @@
 use super::{Fog, FogParams, FogRecord, MAX_VOLUME};
 use crate::camera::Camera;
 use crate::ocean::{Grid, Mesh};
-use crate::workload::{Work, WorkRecord, WorkSpec, WorkloadKind};
+use crate::workload::{MeshWork, WorkOutput, WorkRecord, WorkSpec, WorkloadKind};
 
 /// The probe volume's edge: small enough to take well under a millisecond.
 const PROBE: u64 = 32;
@@ -52,8 +52,7 @@ pub fn measure(params: &FogParams, grid: Grid, camera: Camera, volume: u64) -> C
     let mut fog = Fog::new(&spec, params);
     let mut records = Vec::new();
     for k in 0..=FRAMES {
-        fog.run(k, Some(&mesh), None)
-            .expect("no stop flag was given");
+        fog.run(k, &mesh, None).expect("no stop flag was given");
         if k > 0 {
             if let Some(WorkRecord::Fog(r)) = fog.record() {
                 records.push(r);

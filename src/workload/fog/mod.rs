@@ -12,7 +12,7 @@ pub mod coefficient;
 pub mod isa;
 pub mod noise;
 
-use super::{whole_amount, Kind, LevelAt, Stopped, Work, WorkSpec};
+use super::{whole_amount, Kind, LevelAt, MeshWork, Stopped, Work, WorkOutput, WorkSpec};
 use crate::input::InputError;
 use crate::machine::available_memory;
 use crate::ocean::Mesh;
@@ -276,8 +276,8 @@ impl Kind for FogKind {
         }
     }
 
-    fn build(&self, spec: &WorkSpec, params: &FogParams) -> Box<dyn Work> {
-        Box::new(Fog::new(spec, params))
+    fn build(&self, spec: &WorkSpec, params: &FogParams) -> Work {
+        Work::on_mesh(Fog::new(spec, params))
     }
 }
 
@@ -339,22 +339,34 @@ impl Fog {
     }
 }
 
-impl Work for Fog {
-    fn reads_mesh(&self) -> bool {
-        true
+impl WorkOutput for Fog {
+    fn digest(&self) -> u64 {
+        super::fold_digest(
+            self.frame,
+            self.coefficients.iter().map(|v| u64::from(v.to_bits())),
+        )
     }
 
-    fn run(
-        &mut self,
-        k: u64,
-        mesh: Option<&Mesh>,
-        stop: Option<&AtomicBool>,
-    ) -> Result<(), Stopped> {
+    fn record(&self) -> Option<super::WorkRecord> {
+        let median = |p: usize| stats::median(&self.times.iter().map(|t| t[p]).collect::<Vec<_>>());
+        (!self.times.is_empty()).then(|| {
+            super::WorkRecord::Fog(FogRecord {
+                volume: self.edge as u64,
+                octaves: self.octaves.len() as u32,
+                noise_ms: median(0),
+                blur_ms: median(1),
+                coefficient_ms: median(2),
+            })
+        })
+    }
+}
+
+impl MeshWork for Fog {
+    fn run(&mut self, k: u64, mesh: &Mesh, stop: Option<&AtomicBool>) -> Result<(), Stopped> {
         self.frame = k;
         if self.edge == 0 {
             return Ok(());
         }
-        let mesh = mesh.expect("fog reads the consumed mesh");
         let n = self.edge;
         let started = Instant::now();
         if !noise::fill(&mut self.volume, n, &self.octaves, &Fog::frame(k), stop) {
@@ -385,26 +397,6 @@ impl Work for Fog {
         self.times
             .push([ms(started, noised), ms(noised, blurred), ms(blurred, done)]);
         Ok(())
-    }
-
-    fn digest(&self) -> u64 {
-        super::fold_digest(
-            self.frame,
-            self.coefficients.iter().map(|v| u64::from(v.to_bits())),
-        )
-    }
-
-    fn record(&self) -> Option<super::WorkRecord> {
-        let median = |p: usize| stats::median(&self.times.iter().map(|t| t[p]).collect::<Vec<_>>());
-        (!self.times.is_empty()).then(|| {
-            super::WorkRecord::Fog(FogRecord {
-                volume: self.edge as u64,
-                octaves: self.octaves.len() as u32,
-                noise_ms: median(0),
-                blur_ms: median(1),
-                coefficient_ms: median(2),
-            })
-        })
     }
 }
 

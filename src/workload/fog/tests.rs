@@ -215,7 +215,7 @@ fn fog_gives_every_vertex_a_coefficient_and_moves_with_the_frame() {
     let s = spec(24, 16);
     let mesh = wavy(s.grid);
     let mut fog = Fog::new(&s, &FogParams::default());
-    fog.run(0, Some(&mesh), None).unwrap();
+    fog.run(0, &mesh, None).unwrap();
     let first = fog.digest();
     let f = fog.coefficients();
     assert_eq!(f.len(), 24 * 24);
@@ -225,7 +225,7 @@ fn fog_gives_every_vertex_a_coefficient_and_moves_with_the_frame() {
     );
     let spread = f.iter().cloned().fold(f32::MIN, f32::max) - f.iter().cloned().fold(1.0, f32::min);
     assert!(spread > 0.01, "the fog varies over the patch: {spread}");
-    fog.run(1, Some(&mesh), None).unwrap();
+    fog.run(1, &mesh, None).unwrap();
     assert_ne!(fog.digest(), first, "the fog drifts");
     let Some(WorkRecord::Fog(r)) = fog.record() else {
         panic!("fog records its pass")
@@ -241,9 +241,9 @@ fn fog_gives_every_vertex_a_coefficient_and_moves_with_the_frame() {
             ..FogParams::default()
         },
     );
-    dense.run(0, Some(&mesh), None).unwrap();
+    dense.run(0, &mesh, None).unwrap();
     let mut again = Fog::new(&s, &FogParams::default());
-    again.run(0, Some(&mesh), None).unwrap();
+    again.run(0, &mesh, None).unwrap();
     assert_eq!(
         again.digest(),
         first,
@@ -260,13 +260,13 @@ fn fog_gives_every_vertex_a_coefficient_and_moves_with_the_frame() {
 fn volume_zero_runs_no_pass_and_a_raised_stop_flag_stops_the_frame() {
     let s = spec(8, 0);
     let mut none = Fog::new(&s, &FogParams::default());
-    none.run(5, Some(&Mesh::new(s.grid)), None).unwrap();
+    none.run(5, &Mesh::new(s.grid), None).unwrap();
     assert!(none.coefficients().is_empty() && none.volume().is_empty());
     assert!(none.record().is_none());
     let s = spec(8, 8);
     let stop = AtomicBool::new(true);
     assert_eq!(
-        Fog::new(&s, &FogParams::default()).run(0, Some(&Mesh::new(s.grid)), Some(&stop)),
+        Fog::new(&s, &FogParams::default()).run(0, &Mesh::new(s.grid), Some(&stop)),
         Err(Stopped)
     );
 }

@@ -8,7 +8,7 @@ mod pool;
 
 pub use pool::{Pool, Step, Surface, BYTES_PER_PARTICLE};
 
-use super::{Kind, Stopped, Work, WorkCounts, WorkSpec};
+use super::{Kind, MeshWork, Stopped, Work, WorkCounts, WorkOutput, WorkSpec};
 use crate::input::InputError;
 use crate::machine::available_memory;
 use crate::ocean::{Grid, GridKind, Mesh, Model, OceanKind};
@@ -203,8 +203,8 @@ impl Kind for SprayKind {
         check_grid(grid)
     }
 
-    fn build(&self, spec: &WorkSpec, params: &SprayParams) -> Box<dyn Work> {
-        Box::new(Spray::new(spec, *params))
+    fn build(&self, spec: &WorkSpec, params: &SprayParams) -> Work {
+        Work::on_mesh(Spray::new(spec, *params))
     }
 }
 
@@ -393,7 +393,7 @@ impl Spray {
         Ok(())
     }
 
-    /// One frame as [`Work::run`] does it, with the plain integration loop: the reference the
+    /// One frame as [`MeshWork::run`] does it, with the plain integration loop: the reference the
     /// SIMD loop is checked against.
     pub fn run_plain(&mut self, k: u64, mesh: &Mesh) {
         self.frame(k, mesh, None, true)
@@ -401,21 +401,7 @@ impl Spray {
     }
 }
 
-impl Work for Spray {
-    fn reads_mesh(&self) -> bool {
-        true
-    }
-
-    fn run(
-        &mut self,
-        k: u64,
-        mesh: Option<&Mesh>,
-        stop: Option<&AtomicBool>,
-    ) -> Result<(), Stopped> {
-        let mesh = mesh.expect("spray reads the consumed mesh");
-        self.frame(k, mesh, stop, false)
-    }
-
+impl WorkOutput for Spray {
     fn digest(&self) -> u64 {
         let p = &self.pool;
         let bits = p
@@ -429,6 +415,12 @@ impl Work for Spray {
 
     fn counts(&self) -> Option<WorkCounts> {
         Some(self.counts)
+    }
+}
+
+impl MeshWork for Spray {
+    fn run(&mut self, k: u64, mesh: &Mesh, stop: Option<&AtomicBool>) -> Result<(), Stopped> {
+        self.frame(k, mesh, stop, false)
     }
 }
 

@@ -56,7 +56,7 @@ fn particles_are_born_only_where_the_surface_folds_along_its_direction() {
     };
     let mut spray = Spray::new(&spec(4, 8), params);
     let mesh = folding_mesh(4);
-    spray.run(0, Some(&mesh), None).unwrap();
+    spray.run(0, &mesh, None).unwrap();
     assert_eq!(
         spray.counts(),
         Some(WorkCounts {
@@ -78,7 +78,7 @@ fn particles_are_born_only_where_the_surface_folds_along_its_direction() {
     let mut flat = mesh.clone();
     flat.fold[5] = 1.0;
     let mut none = Spray::new(&spec(4, 8), params);
-    none.run(0, Some(&flat), None).unwrap();
+    none.run(0, &flat, None).unwrap();
     assert_eq!(none.counts().unwrap().emitted, 0, "no fold, no spray");
 }
 
@@ -92,10 +92,10 @@ fn a_vertex_that_moved_since_the_last_mesh_adds_its_velocity() {
     };
     let mut spray = Spray::new(&spec(4, 4), params);
     let mut mesh = folding_mesh(4);
-    spray.run(3, Some(&mesh), None).unwrap();
+    spray.run(3, &mesh, None).unwrap();
     // Two frames later (0.2 s at 0.1 s per frame) the folding vertex is 1 m higher: 5 m/s up.
     mesh.z[5] = 1.0;
-    spray.run(5, Some(&mesh), None).unwrap();
+    spray.run(5, &mesh, None).unwrap();
     let pool = spray.pool();
     let newest = (0..4)
         .filter(|&i| pool.alive[i])
@@ -127,7 +127,7 @@ fn the_fast_loop_and_the_plain_loop_fly_the_same_particles_bit_for_bit() {
     let (mut fast, mut plain) = (make(), make());
     let mut live = 0i64;
     for (k, mesh) in meshes.iter().enumerate() {
-        fast.run(k as u64, Some(mesh), None).unwrap();
+        fast.run(k as u64, mesh, None).unwrap();
         plain.run_plain(k as u64, mesh);
         let c = fast.counts().unwrap();
         live += i64::from(c.emitted) - i64::from(c.recycled);
@@ -154,7 +154,7 @@ fn frames_allocate_nothing_and_a_full_pool_emits_nothing() {
         },
         params,
     );
-    spray.run(0, Some(&meshes[0]), None).unwrap();
+    spray.run(0, &meshes[0], None).unwrap();
     let buffers = |s: &Spray| {
         (
             s.pool.px.as_ptr(),
@@ -166,7 +166,7 @@ fn frames_allocate_nothing_and_a_full_pool_emits_nothing() {
     };
     let before = buffers(&spray);
     for (k, mesh) in meshes.iter().enumerate().skip(1) {
-        spray.run(k as u64, Some(mesh), None).unwrap();
+        spray.run(k as u64, mesh, None).unwrap();
     }
     // The candidate and previous lists swap every frame, so only their sum is fixed.
     assert_eq!(buffers(&spray), before);
@@ -178,7 +178,7 @@ fn a_raised_stop_flag_stops_the_frame() {
     let mesh = folding_mesh(4);
     let stop = AtomicBool::new(true);
     let mut spray = Spray::new(&spec(4, 8), SprayParams::default());
-    assert_eq!(spray.run(0, Some(&mesh), Some(&stop)), Err(Stopped));
+    assert_eq!(spray.run(0, &mesh, Some(&stop)), Err(Stopped));
 }
 
 #[test]
