@@ -5,7 +5,7 @@ use crate::affinity;
 use crate::balance::record::BalanceSettings;
 use crate::camera::Camera;
 use crate::cell::{Axes, CellKey};
-use crate::frame_loop::{check_depth, check_helpers, Budget, Mode};
+use crate::frame_loop::{Budget, Mode};
 pub use crate::machine::available_memory;
 use crate::ocean::{self, mesh, FftParams, Grid, Mesh, OceanParams, Wave, WaveSet};
 use crate::suggest;
@@ -575,24 +575,12 @@ impl SweepConfig {
         self.ocean_params()?;
         self.placement()?;
         for key in self.axes.cells() {
-            check_cell(&key)?;
+            // The lists are crossed, so one bad pair would otherwise fail cells mid-sweep.
+            key.runnable().values()?;
             check_memory(&key, Grid::new(key.size, self.spacing)?)?;
         }
         Ok(())
     }
-}
-
-/// Refuses a cell the loops cannot run, naming the field: a helper count the threading, size
-/// or ocean model cannot split into, or parameters the model refuses (such as `lookup` where
-/// one frame would take over a second). The lists are crossed, so one bad pair would
-/// otherwise fail cells mid-sweep.
-fn check_cell(key: &CellKey) -> Result<(), InputError> {
-    let model = key.ocean.model();
-    if let (Some(helpers), Some(threading)) = (key.helpers, key.threading) {
-        check_helpers(helpers, key.mode, threading, model, key.normals, key.size)?;
-        check_depth(key.depth.unwrap_or(1), threading)?;
-    }
-    model.check(key.size, key.normals)
 }
 
 /// Refuses a cell whose meshes (the ring's slots and the main thread's render buffer, with one

@@ -144,3 +144,27 @@ fn the_spray_flies_over_the_meshes_the_records_say_it_consumed() {
         }
     }
 }
+
+#[test]
+fn a_library_caller_cannot_run_spray_where_a_config_could_not() {
+    // The loop asks the same rules a config does (cell::rules), so spray on the sines, which
+    // have no folds, is refused before a frame runs rather than flying nothing.
+    let mut s = spec(Mode::Serial, SyncMethod::Atomic, 1);
+    s.ocean = OceanKind::SINES;
+    s.params = OceanParams::default();
+    let e = frame_loop::run(&s, &Budget::exact(FRAMES), |_, _| {})
+        .err()
+        .expect("spray on the sines is refused")
+        .to_string();
+    assert!(e.contains("spray needs the fft ocean's folds"), "{e}");
+    let mut s = spec(Mode::Dp, SyncMethod::Atomic, 1);
+    s.work_params = KindParams::default_for(WorkloadKind::SYNTHETIC).unwrap();
+    let e = frame_loop::run(&s, &Budget::exact(FRAMES), |_, _| {})
+        .err()
+        .expect("another kind's parameters are refused")
+        .to_string();
+    assert!(
+        e.contains("parameters of workload kind `synthetic` for a `spray` loop"),
+        "{e}"
+    );
+}

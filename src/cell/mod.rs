@@ -10,10 +10,11 @@
 //! through every output.
 
 mod declare;
+pub mod rules;
 
 pub use declare::{DimValue, Value};
 
-use crate::frame_loop::{self, Consume, Mode, Threading, MAX_DEPTH, MAX_HELPERS};
+use crate::frame_loop::{Consume, Mode, Threading, MAX_DEPTH, MAX_HELPERS};
 use crate::input::InputError;
 use crate::ocean::{mesh::MAX_SIZE, GridKind, Kernel, Model, NormalMethod, OceanKind};
 use crate::sync::{Policy, SyncMethod};
@@ -301,31 +302,28 @@ impl CellKey {
         self.label_without(&others)
     }
 
-    /// Whether the loops can run this combination of values: the ocean model offers the
-    /// kernel and normals, a method belongs to one policy, and `latest` runs one persistent
-    /// helper with no ring. The sweep leaves such combinations out of its product; see
-    /// [`Axes::check_coverage`].
-    pub fn coherent(&self) -> Result<(), InputError> {
-        check_offers(self.ocean, self.ocean.model(), self.kernel, self.normals)?;
-        self.workload_kind.check_surface(self.ocean, self.grid)?;
-        crate::projected::check(
-            self.grid,
-            self.ocean.name(),
-            self.ocean.model(),
-            self.normals,
-        )?;
-        match (
-            self.policy,
-            self.sync,
-            self.depth,
-            self.helpers,
-            self.threading,
-        ) {
-            (Some(policy), Some(sync), Some(depth), Some(helpers), Some(threading)) => {
-                frame_loop::check_policy(policy, sync, depth, helpers, threading)
-            }
-            _ => Ok(()),
+    /// The values the rules read ([`rules::Runnable`]).
+    pub fn runnable(&self) -> rules::Runnable {
+        rules::Runnable {
+            size: self.size,
+            ocean: self.ocean,
+            grid: self.grid,
+            normals: self.normals,
+            kernel: self.kernel,
+            workload_kind: self.workload_kind,
+            mode: self.mode,
+            policy: self.policy,
+            sync: self.sync,
+            threading: self.threading,
+            helpers: self.helpers,
+            depth: self.depth,
         }
+    }
+
+    /// Whether the loops can run this combination of values ([`rules::Runnable::combination`]).
+    /// The sweep leaves such combinations out of its product; see [`Axes::check_coverage`].
+    pub fn coherent(&self) -> Result<(), InputError> {
+        self.runnable().combination()
     }
 
     /// The values of the row dimensions: cells with equal rows run interleaved.

@@ -121,10 +121,9 @@ impl LoopSpec {
         self.helper_cores.len()
     }
 
-    /// Checks what the loop needs: see [`check_helpers`] and [`check_depth`].
+    /// Checks what the loop needs: the cell's rules ([`crate::cell::rules`]) and parameters of
+    /// its workload kind.
     pub fn check(&self) -> Result<(), InputError> {
-        self.workload_kind
-            .check_surface(self.ocean, self.grid_kind)?;
         if self.work_params.kind() != self.workload_kind {
             return Err(InputError(format!(
                 "work_params: parameters of workload kind `{}` for a `{}` loop",
@@ -132,31 +131,23 @@ impl LoopSpec {
                 self.workload_kind
             )));
         }
-        crate::projected::check(
-            self.grid_kind,
-            self.ocean.name(),
-            self.ocean.model(),
-            self.normals,
-        )?;
-        if self.mode == Mode::Serial {
-            return Ok(());
+        let threaded = self.mode != Mode::Serial;
+        crate::cell::rules::Runnable {
+            size: self.grid.n,
+            ocean: self.ocean,
+            grid: self.grid_kind,
+            normals: self.normals,
+            kernel: self.kernel,
+            workload_kind: self.workload_kind,
+            mode: self.mode,
+            policy: threaded.then_some(self.policy),
+            sync: threaded.then_some(self.sync),
+            threading: threaded.then_some(self.threading),
+            helpers: threaded.then(|| self.helpers()),
+            depth: threaded.then_some(self.depth),
         }
-        check_helpers(
-            self.helpers(),
-            self.mode,
-            self.threading,
-            self.ocean.model(),
-            self.normals,
-            self.grid.n,
-        )?;
-        check_depth(self.depth, self.threading)?;
-        check_policy(
-            self.policy,
-            self.sync,
-            self.depth,
-            self.helpers(),
-            self.threading,
-        )
+        .check()
+        .map_err(|r| r.error())
     }
 
     /// A blank mesh with the fields the cell's model fills: every slot and render buffer.
