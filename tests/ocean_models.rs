@@ -2,6 +2,8 @@
 //! own checks answer bad input, sweeps run them, and results naming a model this program never
 //! registered still read back. Its own test binary: the registry is process-wide.
 
+mod common;
+
 use oceanbench::config::{InputError, SweepConfig};
 use oceanbench::ocean::{
     self, Grid, Kernel, Mesh, MeshRows, Model, NormalMethod, OceanKind, OceanParams, Stepper,
@@ -94,7 +96,7 @@ fn register() {
 
 /// A config naming the test model, with `extra` keys merged in.
 fn config(extra: serde_json::Value) -> Result<SweepConfig, InputError> {
-    let mut value = serde_json::json!({
+    let base = serde_json::json!({
         "sizes": [6],
         "ocean": ["still"],
         "normals": ["analytic"],
@@ -108,10 +110,7 @@ fn config(extra: serde_json::Value) -> Result<SweepConfig, InputError> {
         "min_seconds": 0.0,
         "still": {"height": 2.5}
     });
-    for (k, v) in extra.as_object().unwrap() {
-        value[k] = v.clone();
-    }
-    SweepConfig::from_json(&value.to_string())
+    common::config_with(base, extra)
 }
 
 #[test]

@@ -153,15 +153,13 @@ fn a_library_caller_cannot_run_spray_where_a_config_could_not() {
     s.ocean = OceanKind::SINES;
     s.params = OceanParams::default();
     let e = frame_loop::run(&s, &Budget::exact(FRAMES), |_, _| {})
-        .err()
-        .expect("spray on the sines is refused")
+        .expect_err("spray on the sines is refused")
         .to_string();
     assert!(e.contains("spray needs the fft ocean's folds"), "{e}");
     let mut s = spec(Mode::Dp, SyncMethod::Atomic, 1);
     s.work_params = KindParams::default_for(WorkloadKind::SYNTHETIC).unwrap();
     let e = frame_loop::run(&s, &Budget::exact(FRAMES), |_, _| {})
-        .err()
-        .expect("another kind's parameters are refused")
+        .expect_err("another kind's parameters are refused")
         .to_string();
     assert!(
         e.contains("parameters of workload kind `synthetic` for a `spray` loop"),

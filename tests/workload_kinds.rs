@@ -2,6 +2,8 @@
 //! own checks answer bad input, sweeps run them, and results naming a kind this program never
 //! registered still read back. Its own test binary: the registry is process-wide.
 
+mod common;
+
 use oceanbench::cell::Axes;
 use oceanbench::config::{InputError, Level, SweepConfig};
 use oceanbench::frame_loop::Mode;
@@ -100,7 +102,7 @@ fn register() {
 
 /// A config naming the test kind, with `extra` keys merged in.
 fn config(extra: serde_json::Value) -> Result<SweepConfig, InputError> {
-    let mut value = serde_json::json!({
+    let base = serde_json::json!({
         "sizes": [6],
         "workload_kind": ["tally"],
         "workload_levels": [{"passes": 0}, {"passes": 3}],
@@ -113,10 +115,7 @@ fn config(extra: serde_json::Value) -> Result<SweepConfig, InputError> {
         "min_seconds": 0.0,
         "tally": {"step": 2}
     });
-    for (k, v) in extra.as_object().unwrap() {
-        value[k] = v.clone();
-    }
-    SweepConfig::from_json(&value.to_string())
+    common::config_with(base, extra)
 }
 
 #[test]

@@ -158,3 +158,16 @@ pub fn describe(s: &LoopSpec) -> String {
         s.helpers()
     )
 }
+
+/// A tiny config for a kind or model a test registers: `base` with the keys of `extra` replaced,
+/// parsed and validated as a config file is.
+pub fn config_with(
+    base: serde_json::Value,
+    extra: serde_json::Value,
+) -> Result<oceanbench::config::SweepConfig, oceanbench::config::InputError> {
+    let mut value = base;
+    for (k, v) in extra.as_object().expect("extra keys are an object") {
+        value[k] = v.clone();
+    }
+    oceanbench::config::SweepConfig::from_json(&value.to_string())
+}
