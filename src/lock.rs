@@ -157,7 +157,10 @@ fn try_take(path: &Path) -> Result<Lock, LockError> {
         path: path.to_path_buf(),
         source,
     };
-    loop {
+    // A holder may remove the file between our open and our lock, so the file we locked may no
+    // longer be the one at `path`: open it again. Bounded, so that a file replaced over and
+    // over (or a broken check) is an error within milliseconds, never a hang.
+    for _ in 0..MAX_REOPENS {
         let mut file = OpenOptions::new()
             .read(true)
             .write(true)
@@ -186,7 +189,13 @@ fn try_take(path: &Path) -> Result<Lock, LockError> {
             path: path.to_path_buf(),
         });
     }
+    Err(io(std::io::Error::other(format!(
+        "the lock file was replaced {MAX_REOPENS} times while it was being taken"
+    ))))
 }
+
+/// Times [`try_take`] opens a lock file again after finding the one it locked replaced.
+const MAX_REOPENS: usize = 64;
 
 /// Whether `path` still names the open `file` (its holder may have removed it meanwhile).
 fn same_file(file: &File, path: &Path) -> bool {
