@@ -9,12 +9,13 @@
 //! entry here plus the code that implements it; `tests/cell_model.rs` walks every dimension
 //! through every output.
 
+pub mod axes;
 mod declare;
 pub mod rules;
 
+pub use axes::{Consume, Mode, Threading, MAX_DEPTH, MAX_HELPERS};
 pub use declare::{DimValue, Value};
 
-use crate::frame_loop::{Consume, Mode, Threading, MAX_DEPTH, MAX_HELPERS};
 use crate::input::InputError;
 use crate::ocean::{mesh::MAX_SIZE, GridKind, Kernel, Model, NormalMethod, OceanKind};
 use crate::sync::{Policy, SyncMethod};

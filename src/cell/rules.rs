@@ -7,8 +7,8 @@
 //! out of range for the cell (more helpers than rows, `lookup` on a huge mesh) is refused with
 //! its field.
 
+use super::axes::{check_depth, check_helpers, check_policy, Mode, Threading};
 use super::check_offers;
-use crate::frame_loop::{check_depth, check_helpers, check_policy, Mode, Threading};
 use crate::input::InputError;
 use crate::ocean::{GridKind, Kernel, NormalMethod, OceanKind};
 use crate::sync::{Policy, SyncMethod};

@@ -4,19 +4,7 @@
 
 use crate::ocean::Mesh;
 
-crate::named! {
-    /// How the main thread consumes a mesh.
-    pub enum Consume {
-        /// Copy it into the main thread's render buffer (the paper's build).
-        Copy,
-        /// Read every vertex and normal once, in place: a bounding box and a checksum.
-        Read,
-        /// Take the slot and pass it on untouched; it goes back to the helper depth − 1 frames
-        /// later (at depth 1, at the end of the frame), as frames in flight do. What this leaves
-        /// out is the GPU's read of the buffer, which no CPU thread pays.
-        Handle,
-    }
-}
+pub use crate::cell::Consume;
 
 /// Consumes `mesh` as `how` says: the mesh the frame goes on with (the render buffer under
 /// `copy`), and under `read` the read pass's folded checksum.

@@ -2,7 +2,7 @@
 
 use super::render::{Bar, BarPanel, BarPlot, Body, Chart, Frame, Legend, RefLine};
 use super::{mode_name, Missing, NothingToDraw, Runs, CHART_SIZE};
-use crate::frame_loop::Mode;
+use crate::cell::Mode;
 use crate::measure::Summary;
 use crate::stats;
 use plotters::style::RGBColor;

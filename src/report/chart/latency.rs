@@ -4,7 +4,7 @@
 use super::bars::shade;
 use super::render::{Body, Chart, Frame, Legend, Trace, TracePanel, TracePlot};
 use super::{mode_name, sync_color, Missing, NothingToDraw, Runs, CHART_SIZE};
-use crate::frame_loop::{Consume, Mode};
+use crate::cell::{Consume, Mode};
 use strum::VariantArray;
 
 /// FPS against input-to-consume latency at the focus workload: UP panels in the top row, DP

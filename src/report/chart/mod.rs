@@ -10,8 +10,8 @@ mod frames;
 mod latency;
 mod render;
 
+use crate::cell::Mode;
 use crate::cell::{Axes, Dim, DimValue, Value};
-use crate::frame_loop::Mode;
 use crate::measure::Summary;
 use crate::results::{CellKey, Results};
 use crate::sync::SyncMethod;
