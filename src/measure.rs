@@ -2,7 +2,7 @@
 //! the per-frame breakdown, and the spread over trials.
 
 use crate::stats::{self, quantile};
-use crate::workload::WorkCounts;
+use crate::workload::{WorkCounts, WorkTrial};
 use serde::{Deserialize, Serialize};
 
 /// What the main thread timed in one frame (nanoseconds).
@@ -63,6 +63,18 @@ impl Trial {
     /// Frames ÷ elapsed seconds.
     pub fn fps(&self) -> f64 {
         self.frames.len() as f64 / self.seconds()
+    }
+
+    /// What the work counted over the trial's frames, with its mean main-thread time per
+    /// frame; `None` when its frames counted nothing.
+    pub fn work(&self) -> Option<WorkTrial> {
+        let counts: Vec<WorkCounts> = self.frames.iter().filter_map(|f| f.work_counts).collect();
+        let main: Vec<f64> = self
+            .frames
+            .iter()
+            .map(|f| f.workload_ns as f64 * 1e-6)
+            .collect();
+        WorkTrial::of(&counts, stats::mean(&main))
     }
 }
 
@@ -318,57 +330,14 @@ pub struct Summary {
     /// With `read` consumption, the trials' checksums of the meshes read, folded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub read_checksum: Option<u64>,
-    /// Each trial's particle counts, for a workload that counts them (`spray`).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub particles: Vec<ParticleTrial>,
+    /// Each trial's counts per frame, for a workload kind that counts (spray: its particles).
+    /// Results from before counts were keyed hold spray's under `particles`.
+    #[serde(default, alias = "particles", skip_serializing_if = "Vec::is_empty")]
+    pub work_trials: Vec<WorkTrial>,
     /// Measured frames over every trial.
     pub frames: usize,
     /// Measured seconds over every trial.
     pub seconds: f64,
-}
-
-/// One trial's particles: the live count per frame and the births and deaths per frame, and
-/// the time the work took on the main thread.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ParticleTrial {
-    /// Mean live count after a frame.
-    pub live_mean: f64,
-    /// Fewest live after a frame.
-    pub live_min: u32,
-    /// Most live after a frame.
-    pub live_max: u32,
-    /// Mean particles emitted per frame.
-    pub emitted_per_frame: f64,
-    /// Mean particles killed and their slots freed per frame.
-    pub recycled_per_frame: f64,
-    /// Mean main-thread time of the work per frame (ms).
-    pub main_ms: f64,
-}
-
-impl ParticleTrial {
-    /// The trial's counts; `None` when its frames counted nothing.
-    pub fn of(trial: &Trial) -> Option<ParticleTrial> {
-        let counts: Vec<WorkCounts> = trial.frames.iter().filter_map(|f| f.work_counts).collect();
-        if counts.is_empty() {
-            return None;
-        }
-        let mean = |f: fn(&WorkCounts) -> u32| {
-            stats::mean(&counts.iter().map(|c| f64::from(f(c))).collect::<Vec<_>>())
-        };
-        let main: Vec<f64> = trial
-            .frames
-            .iter()
-            .map(|f| f.workload_ns as f64 * 1e-6)
-            .collect();
-        Some(ParticleTrial {
-            live_mean: mean(|c| c.live),
-            live_min: counts.iter().map(|c| c.live).min().unwrap_or(0),
-            live_max: counts.iter().map(|c| c.live).max().unwrap_or(0),
-            emitted_per_frame: mean(|c| c.emitted),
-            recycled_per_frame: mean(|c| c.recycled),
-            main_ms: stats::mean(&main),
-        })
-    }
 }
 
 impl Latency {
@@ -462,7 +431,7 @@ impl Summary {
                 .iter()
                 .filter_map(|t| t.checksum)
                 .reduce(|a, b| a ^ b.rotate_left(17)),
-            particles: trials.iter().filter_map(ParticleTrial::of).collect(),
+            work_trials: trials.iter().filter_map(Trial::work).collect(),
             frames: all.len(),
             seconds,
         })

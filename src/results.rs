@@ -235,8 +235,12 @@ impl Placement {
 /// the two cores as `thread_siblings`, a balance probe its `round_trip_ns`, `step_us` and
 /// `placement`, and a balance entry its headline `placement`, the probes it `set_aside` and
 /// the balance `placements` one by one; absent, placements are inferred from whatever round
-/// trips the file holds (DP trials only, before schema 6).
-pub const SCHEMA_VERSION: u32 = 6;
+/// trips the file holds (DP trials only, before schema 6). 7: a counting kind's trials are
+/// `work_trials`, each count under the kind's key with its mean, fewest and most per frame,
+/// and a kind's `work` record is a flat object of named numbers; files before it hold spray's
+/// counts under `particles` and the fog's record under `{"fog": {...}}`, and read back into the
+/// same keys.
+pub const SCHEMA_VERSION: u32 = 7;
 
 /// Files written before the field existed have today's layout, version 1.
 fn version_1() -> u32 {

@@ -842,7 +842,10 @@ fn a_sweep_over_both_oceans_skips_the_spray_cells_on_sines_and_says_so_once() {
     let results = Results::load(&out.join("results.json")).unwrap();
     let oceans: Vec<OceanKind> = results.cells.iter().map(|c| c.key.ocean).collect();
     assert_eq!(oceans, [OceanKind::FFT]);
-    let particles = &results.cells[0].summary.as_ref().unwrap().particles;
-    assert_eq!(particles.len(), 1, "one trial's counts");
-    assert!(particles[0].live_max <= 500);
+    let trials = &results.cells[0].summary.as_ref().unwrap().work_trials;
+    assert_eq!(trials.len(), 1, "one trial's counts");
+    let keys: Vec<&str> = trials[0].counts.iter().map(|c| c.key.as_str()).collect();
+    assert_eq!(keys, ["live", "emitted", "recycled"]);
+    let live = trials[0].count("live").unwrap();
+    assert!(live.max.unwrap() <= 500 && live.min <= live.max);
 }

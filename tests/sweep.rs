@@ -175,7 +175,7 @@ fn an_interrupted_sweep_keeps_finished_rows_and_resumes_to_the_same_cells() {
 /// into noise, blur and coefficients), the synthetic rows' to iterations; level 0 runs no pass.
 #[test]
 fn fog_levels_in_micros_resolve_to_a_volume_through_its_own_calibration() {
-    use oceanbench::workload::{WorkRecord, WorkloadKind};
+    use oceanbench::workload::WorkloadKind;
     let mut config = tiny("fog");
     config.axes.sizes = vec![8];
     config.axes.modes = vec![Mode::Serial];
@@ -195,11 +195,24 @@ fn fog_levels_in_micros_resolve_to_a_volume_through_its_own_calibration() {
             (WorkloadKind::FOG, _) => {
                 assert_eq!(c.workload_unit(), "volume", "{what}");
                 assert!((1..=512).contains(&amount), "{what}: volume {amount}");
-                let Some(WorkRecord::Fog(r)) = &c.work else {
+                let Some(r) = &c.work else {
                     panic!("{what}: the fog's pass is recorded")
                 };
-                assert_eq!((r.volume, r.octaves), (amount, 4), "{what}");
-                assert!(r.noise_ms > 0.0 && r.blur_ms > 0.0, "{what}");
+                let keys: Vec<&str> = r.iter().map(|(k, _)| k).collect();
+                assert_eq!(
+                    keys,
+                    ["volume", "octaves", "noise_ms", "blur_ms", "coefficient_ms"],
+                    "{what}"
+                );
+                assert_eq!(
+                    (r.get("volume"), r.get("octaves")),
+                    (Some(amount as f64), Some(4.0)),
+                    "{what}"
+                );
+                assert!(
+                    r.get("noise_ms") > Some(0.0) && r.get("blur_ms") > Some(0.0),
+                    "{what}"
+                );
                 let cal = c.calibration.as_ref().unwrap();
                 assert_eq!(cal.level_micros, 3000.0, "{what}");
             }

@@ -176,17 +176,26 @@ fn print_cells(results: &Results) {
                 );
             }
         }
-        for (i, p) in cell.summary.iter().flat_map(|s| &s.particles).enumerate() {
+        let kind = cell.key.workload_kind;
+        for (i, t) in cell.summary.iter().flat_map(|s| &s.work_trials).enumerate() {
+            let counts: Vec<String> = t
+                .counts
+                .iter()
+                .map(|c| match (c.min, c.max) {
+                    (Some(lo), Some(hi)) => format!("{} {:.0} ({lo}-{hi})", c.key, c.mean),
+                    _ => format!("{} {:.0}", c.key, c.mean),
+                })
+                .collect();
             println!(
-                "  particles, trial {}: live {:.0} mean ({}-{}), {:.0} emitted and {:.0} recycled per frame; spray {:.3} ms per frame on the main thread",
+                "  {kind}, trial {}: per frame {}; {:.3} ms per frame on the main thread",
                 i + 1,
-                p.live_mean,
-                p.live_min,
-                p.live_max,
-                p.emitted_per_frame,
-                p.recycled_per_frame,
-                p.main_ms
+                counts.join(", "),
+                t.main_ms
             );
+        }
+        if let Some(r) = &cell.work {
+            let values: Vec<String> = r.iter().map(|(k, v)| format!("{k} {v}")).collect();
+            println!("  {kind} recorded: {}", values.join(", "));
         }
         let placed = crate::placement::CellPlacement::of(cell);
         if !placed.classes.is_empty() {

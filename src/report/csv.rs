@@ -6,6 +6,7 @@ use crate::calibrate::Calibrate;
 use crate::placement::{CellPlacement, Class};
 use crate::results::{Cell, CellKey, CellNoise, Results};
 use crate::stats;
+use itertools::Itertools;
 use serde::Serialize;
 use std::io::Write;
 
@@ -71,11 +72,63 @@ struct CellRow<'a> {
     fps_near: Option<f64>,
     fps_far: Option<f64>,
     set_aside: usize,
+    /// The workload kind's own counts and record, one column per key any cell has
+    /// (`work_<key>_per_frame`, `work_<key>`), blank where this cell has none.
+    #[serde(flatten)]
+    work: serde_json::Map<String, serde_json::Value>,
     error: Option<&'a str>,
 }
 
+/// The work columns of a results table: each count's mean per frame, then each recorded value,
+/// under every key any cell has.
+struct WorkColumns {
+    counts: Vec<String>,
+    record: Vec<String>,
+}
+
+impl WorkColumns {
+    fn of(results: &Results) -> WorkColumns {
+        let summaries = || results.cells.iter().filter_map(|c| c.summary.as_ref());
+        WorkColumns {
+            counts: summaries()
+                .flat_map(|s| s.work_trials.iter().flat_map(|t| &t.counts))
+                .map(|c| c.key.clone())
+                .unique()
+                .collect(),
+            record: results
+                .cells
+                .iter()
+                .filter_map(|c| c.work.as_ref())
+                .flat_map(|r| r.iter().map(|(k, _)| k.to_string()))
+                .unique()
+                .collect(),
+        }
+    }
+
+    fn row(&self, cell: &Cell) -> serde_json::Map<String, serde_json::Value> {
+        let trials = cell
+            .summary
+            .as_ref()
+            .map_or(&[][..], |s| &s.work_trials[..]);
+        let mut out = serde_json::Map::new();
+        for key in &self.counts {
+            let means: Vec<f64> = trials
+                .iter()
+                .filter_map(|t| t.count(key).map(|c| c.mean))
+                .collect();
+            let mean = (!means.is_empty()).then(|| stats::mean(&means));
+            out.insert(format!("work_{key}_per_frame"), mean.into());
+        }
+        for key in &self.record {
+            let value = cell.work.as_ref().and_then(|r| r.get(key));
+            out.insert(format!("work_{key}"), value.into());
+        }
+        out
+    }
+}
+
 impl<'a> CellRow<'a> {
-    fn of(cell: &'a Cell) -> CellRow<'a> {
+    fn of(cell: &'a Cell, work: &WorkColumns) -> CellRow<'a> {
         let s = cell.summary.as_ref();
         let (noise, cal) = (cell.noise.as_ref(), cell.calibration.as_ref());
         let latency = s.and_then(|s| s.latency.as_ref());
@@ -148,6 +201,7 @@ impl<'a> CellRow<'a> {
             fps_near: fps(Class::Near),
             fps_far: fps(Class::Far),
             set_aside: cell.set_aside.len(),
+            work: work.row(cell),
             error: cell.error.as_deref(),
         }
     }
@@ -201,7 +255,8 @@ pub fn write<T: Serialize>(
 
 /// The results as CSV text: one row per cell.
 pub fn to_string(results: &Results) -> Result<String, CsvError> {
-    to_text(results.cells.iter().map(CellRow::of))
+    let work = WorkColumns::of(results);
+    to_text(results.cells.iter().map(|c| CellRow::of(c, &work)))
 }
 
 /// One trial of a cell: the cell, the trial's FPS and breakdown, its canaries and round trips,

@@ -3,12 +3,14 @@
 
 use crate::balance::{BalanceEntry, Ratio};
 use crate::calibrate::{self, Calibrate};
-use crate::cell::{Dim, DimValue};
-use crate::frame_loop::Mode;
+use crate::cell::{Dim, DimValue, Mode};
 use crate::placement::{Class, RunPlacement};
 use crate::results::{Cell, CellKey, CellNoise, Results};
 use crate::slow_trials::{Cause, Slow, TrialRecord};
+use crate::stats;
 use crate::sync::{Policy, SyncMethod};
+use crate::workload::{WorkTrial, WorkloadKind};
+use itertools::Itertools;
 use std::fmt::Write;
 use strum::VariantArray;
 
@@ -525,7 +527,7 @@ pub fn body(results: &Results) -> String {
     out.push_str(&waiting(results));
     out.push_str(&placement(results));
     out.push_str(&balance(results));
-    if let Some(t) = particles_table(results) {
+    for t in work_tables(results) {
         out.push_str(&t.to_markdown());
     }
     out.push_str(&slow_and_noisy(results));
@@ -592,60 +594,135 @@ pub fn run_ahead(results: &Results) -> String {
     out
 }
 
-/// Per cell whose workload counts particles (`spray`): its FPS, the live count (mean over the
-/// trials' means, and the lowest and highest any frame had), the births and deaths per frame,
-/// the spray's main-thread time per frame and the consumed meshes' age. `None` without such a
-/// cell.
-pub fn particles_table(results: &Results) -> Option<Table> {
-    let rows: Vec<Vec<String>> = results
-        .cells
+/// Per workload kind that counts something each frame (spray: its particles), one table: each
+/// cell's FPS, every count per frame (the mean over the trials' means, and the fewest and most
+/// any frame had), the work's main-thread time per frame and the consumed meshes' age. Then per
+/// kind that keeps a record of its work (fog: its volume and the time of each part of its
+/// pass), one table of those values. The keys are the kind's: any kind renders.
+pub fn work_tables(results: &Results) -> Vec<Table> {
+    let mut kinds: Vec<WorkloadKind> = Vec::new();
+    for c in &results.cells {
+        if !kinds.contains(&c.key.workload_kind) {
+            kinds.push(c.key.workload_kind);
+        }
+    }
+    let mut out = Vec::new();
+    for kind in kinds {
+        let cells: Vec<&Cell> = results
+            .cells
+            .iter()
+            .filter(|c| c.key.workload_kind == kind)
+            .collect();
+        out.extend(counts_table(kind, &cells));
+        out.extend(record_table(kind, &cells));
+    }
+    out
+}
+
+/// A cell's trials of a counting kind (none for another kind, or a cell that failed).
+fn work_trials(c: &Cell) -> &[WorkTrial] {
+    c.summary.as_ref().map_or(&[], |s| &s.work_trials)
+}
+
+fn counts_table(kind: WorkloadKind, cells: &[&Cell]) -> Option<Table> {
+    let keys: Vec<String> = cells
         .iter()
-        .filter_map(|c| {
-            let s = c.summary.as_ref()?;
-            let p = &s.particles;
-            if p.is_empty() {
-                return None;
-            }
-            let mean = |f: fn(&crate::measure::ParticleTrial) -> f64| {
-                p.iter().map(f).sum::<f64>() / p.len() as f64
+        .flat_map(|c| work_trials(c).iter().flat_map(|t| &t.counts))
+        .map(|c| c.key.clone())
+        .unique()
+        .collect();
+    let rows: Vec<Vec<String>> = cells
+        .iter()
+        .filter(|c| !work_trials(c).is_empty())
+        .map(|c| {
+            let t = work_trials(c);
+            let mean = |f: &dyn Fn(&WorkTrial) -> Option<f64>| {
+                let v: Vec<f64> = t.iter().filter_map(f).collect();
+                (!v.is_empty()).then(|| stats::mean(&v))
             };
-            Some(vec![
-                c.key.label(),
-                fps(Some(c)),
-                format!(
-                    "{:.0} ({}-{})",
-                    mean(|t| t.live_mean),
-                    p.iter().map(|t| t.live_min).min().unwrap_or(0),
-                    p.iter().map(|t| t.live_max).max().unwrap_or(0)
-                ),
-                format!("{:.0}", mean(|t| t.emitted_per_frame)),
-                format!("{:.0}", mean(|t| t.recycled_per_frame)),
-                format!("{:.3}", mean(|t| t.main_ms)),
-                s.latency
+            let mut row = vec![c.key.label(), fps(Some(c))];
+            for key in &keys {
+                let counts: Vec<_> = t.iter().filter_map(|t| t.count(key)).collect();
+                let span = match (
+                    counts.iter().filter_map(|c| c.min).min(),
+                    counts.iter().filter_map(|c| c.max).max(),
+                ) {
+                    (Some(lo), Some(hi)) => format!(" ({lo}-{hi})"),
+                    _ => String::new(),
+                };
+                row.push(match mean(&|t| t.count(key).map(|c| c.mean)) {
+                    Some(m) => format!("{m:.0}{span}"),
+                    None => "–".into(),
+                });
+            }
+            row.push(mean(&|t| Some(t.main_ms)).map_or("–".into(), |m| format!("{m:.3}")));
+            row.push(
+                c.summary
                     .as_ref()
+                    .and_then(|s| s.latency.as_ref())
                     .map_or("–".into(), |l| format!("{:.2}", l.age_frames_mean)),
-            ])
+            );
+            row
         })
         .collect();
-    (!rows.is_empty()).then(|| Table {
-        title: "Spray particles".into(),
-        header: [
-            "cell",
-            "FPS",
-            "live per frame: mean (min-max)",
-            "emitted per frame",
-            "recycled per frame",
-            "spray ms per frame (main thread)",
-            "mesh age (frames)",
-        ]
-        .map(String::from)
-        .to_vec(),
-        numeric: vec![false, true, true, true, true, true, true],
+    if rows.is_empty() {
+        return None;
+    }
+    let mut header = vec!["cell".to_string(), "FPS".into()];
+    header.extend(
+        keys.iter()
+            .map(|k| format!("{k} per frame: mean (min-max)")),
+    );
+    header.push(format!("{kind} ms per frame (main thread)"));
+    header.push("mesh age (frames)".into());
+    Some(Table {
+        title: format!("Counted per frame by `{kind}`"),
+        numeric: header.iter().enumerate().map(|(i, _)| i > 0).collect(),
+        header,
         rows,
-        notes: vec![
-            "The level is the pool's capacity; live counts are after each frame's kill and emission.".into(),
-        ],
+        notes: vec![format!(
+            "The counts are the `{kind}` kind's own, after each frame's work; a range is the fewest and most any frame had."
+        )],
     })
+}
+
+fn record_table(kind: WorkloadKind, cells: &[&Cell]) -> Option<Table> {
+    let keys: Vec<&str> = cells
+        .iter()
+        .filter_map(|c| c.work.as_ref())
+        .flat_map(|r| r.iter().map(|(k, _)| k))
+        .unique()
+        .collect();
+    let rows: Vec<Vec<String>> = cells
+        .iter()
+        .filter_map(|c| {
+            let r = c.work.as_ref()?;
+            let mut row = vec![c.key.label()];
+            row.extend(keys.iter().map(|k| r.get(k).map_or("–".into(), number)));
+            Some(row)
+        })
+        .collect();
+    if rows.is_empty() {
+        return None;
+    }
+    let mut header = vec!["cell".to_string()];
+    header.extend(keys.iter().map(|k| k.to_string()));
+    Some(Table {
+        title: format!("Recorded by `{kind}` of its work"),
+        numeric: header.iter().enumerate().map(|(i, _)| i > 0).collect(),
+        header,
+        rows,
+        notes: vec!["Each value is the median over the cell's trials.".into()],
+    })
+}
+
+/// A recorded value as text: whole numbers without decimals, times to the microsecond.
+fn number(v: f64) -> String {
+    if v.fract() == 0.0 && v.abs() < 1e15 {
+        format!("{v:.0}")
+    } else {
+        format!("{v:.3}")
+    }
 }
 
 /// What the `latest` policy buys and what it drops: per `latest` cell, its FPS, the consumed

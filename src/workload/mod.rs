@@ -7,6 +7,7 @@
 
 pub mod fog;
 mod kind;
+pub mod record;
 mod render;
 pub mod spray;
 mod synthetic;
@@ -16,25 +17,14 @@ pub use kind::{
     kinds, lookup, names, register, whole_amount, DynKind, Kind, KindParams, LevelAt, WorkloadKind,
     MAX_AMOUNT,
 };
+pub use record::{CountStats, WorkCounts, WorkRecord, WorkTrial, MAX_COUNTS};
 pub use render::Render;
 pub use spray::{Spray, SprayParams};
 pub use synthetic::{run, run_unless, Calibration, Synthetic};
 
 use crate::camera::Camera;
 use crate::ocean::{Grid, Mesh};
-use serde::{Deserialize, Serialize};
 use std::sync::atomic::AtomicBool;
-
-/// What a counting kind's last frame did (spray: its particles).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct WorkCounts {
-    /// Live after the frame.
-    pub live: u32,
-    /// Born in the frame.
-    pub emitted: u32,
-    /// Killed in the frame, their slots freed for reuse.
-    pub recycled: u32,
-}
 
 /// The stop flag was raised before the frame's work was done.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -111,27 +101,6 @@ pub fn fold_digest(seed: u64, values: impl Iterator<Item = u64>) -> u64 {
     values.fold(seed, |h, v| {
         (h.rotate_left(5) ^ v).wrapping_mul(0x9E37_79B9_7F4A_7C15)
     })
-}
-
-/// A kind's own record of its work in a loop, kept with the cell's results.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum WorkRecord {
-    /// The fog's volume, octaves and time per part of its pass.
-    Fog(FogRecord),
-}
-
-impl WorkRecord {
-    /// One record for a cell from its trials' records: each time's median over them.
-    pub fn of_trials(records: &[WorkRecord]) -> Option<WorkRecord> {
-        let fog: Vec<FogRecord> = records
-            .iter()
-            .map(|r| match r {
-                WorkRecord::Fog(f) => f.clone(),
-            })
-            .collect();
-        FogRecord::median(&fog).map(WorkRecord::Fog)
-    }
 }
 
 /// What a kind's work is built from.

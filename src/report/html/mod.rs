@@ -98,7 +98,7 @@ pub fn page(
                     h3 { "Noisy cells" }
                     ul id="noisy-cells" { @for line in &noisy { li { (line) } } }
                 }
-                @if let Some(t) = markdown::particles_table(results) { (table(&t)) }
+                @for t in markdown::work_tables(results) { (table(&t)) }
                 h2 { "Frame times" }
                 (table(&frame_metrics(results)))
                 (chart("frame-times"))

@@ -7,7 +7,7 @@
 use super::{Fog, FogParams, FogRecord, MAX_VOLUME};
 use crate::camera::Camera;
 use crate::ocean::{Grid, Mesh};
-use crate::workload::{MeshWork, WorkOutput, WorkRecord, WorkSpec, WorkloadKind};
+use crate::workload::{MeshWork, WorkSpec, WorkloadKind};
 
 /// The probe volume's edge: small enough to take well under a millisecond.
 const PROBE: u64 = 32;
@@ -54,7 +54,7 @@ pub fn measure(params: &FogParams, grid: Grid, camera: Camera, volume: u64) -> C
     for k in 0..=FRAMES {
         fog.run(k, &mesh, None).expect("no stop flag was given");
         if k > 0 {
-            if let Some(WorkRecord::Fog(r)) = fog.record() {
+            if let Some(r) = fog.pass_record() {
                 records.push(r);
             }
             fog.times.clear();

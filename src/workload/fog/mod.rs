@@ -214,6 +214,16 @@ impl FogRecord {
             ..first.clone()
         })
     }
+
+    /// The record as results keep it, under the field names.
+    pub fn keyed(&self) -> super::WorkRecord {
+        super::WorkRecord::default()
+            .with("volume", self.volume as f64)
+            .with("octaves", f64::from(self.octaves))
+            .with("noise_ms", self.noise_ms)
+            .with("blur_ms", self.blur_ms)
+            .with("coefficient_ms", self.coefficient_ms)
+    }
 }
 
 /// The kind's name, and its config key.
@@ -348,15 +358,20 @@ impl WorkOutput for Fog {
     }
 
     fn record(&self) -> Option<super::WorkRecord> {
+        self.pass_record().map(|r| r.keyed())
+    }
+}
+
+impl Fog {
+    /// The loop's pass so far: the median time of each part per frame; `None` before a frame.
+    pub fn pass_record(&self) -> Option<FogRecord> {
         let median = |p: usize| stats::median(&self.times.iter().map(|t| t[p]).collect::<Vec<_>>());
-        (!self.times.is_empty()).then(|| {
-            super::WorkRecord::Fog(FogRecord {
-                volume: self.edge as u64,
-                octaves: self.octaves.len() as u32,
-                noise_ms: median(0),
-                blur_ms: median(1),
-                coefficient_ms: median(2),
-            })
+        (!self.times.is_empty()).then(|| FogRecord {
+            volume: self.edge as u64,
+            octaves: self.octaves.len() as u32,
+            noise_ms: median(0),
+            blur_ms: median(1),
+            coefficient_ms: median(2),
         })
     }
 }

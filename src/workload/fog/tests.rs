@@ -2,7 +2,7 @@ use super::*;
 use crate::camera::Camera;
 use crate::ocean::sines::fast::Isa;
 use crate::ocean::Grid;
-use crate::workload::{WorkRecord, WorkloadKind};
+use crate::workload::WorkloadKind;
 use ::noise::permutationtable::{NoiseHasher, PermutationTable};
 use ::noise::{NoiseFn, Perlin};
 
@@ -227,7 +227,7 @@ fn fog_gives_every_vertex_a_coefficient_and_moves_with_the_frame() {
     assert!(spread > 0.01, "the fog varies over the patch: {spread}");
     fog.run(1, &mesh, None).unwrap();
     assert_ne!(fog.digest(), first, "the fog drifts");
-    let Some(WorkRecord::Fog(r)) = fog.record() else {
+    let Some(r) = fog.pass_record() else {
         panic!("fog records its pass")
     };
     assert_eq!((r.volume, r.octaves), (16, 4));

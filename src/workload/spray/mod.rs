@@ -254,7 +254,7 @@ impl Spray {
             previous_at: Vec::with_capacity(vertices),
             previous_frame: None,
             rng: SplitMix64(p.seed),
-            counts: WorkCounts::default(),
+            counts: WorkCounts::new(&COUNTS, &[0; 3]),
             frame: 0,
         }
     }
@@ -384,11 +384,10 @@ impl Spray {
         }
         let emitted = self.emit(mesh, k);
         self.remember(mesh, k);
-        self.counts = WorkCounts {
-            live: self.pool.live() as u32,
-            emitted,
-            recycled,
-        };
+        self.counts = WorkCounts::new(
+            &COUNTS,
+            &[self.pool.live() as u64, emitted.into(), recycled.into()],
+        );
         self.frame = k;
         Ok(())
     }
@@ -400,6 +399,10 @@ impl Spray {
             .expect("no stop flag, no stop");
     }
 }
+
+/// What spray counts each frame: particles live after it, born in it, and killed in it (their
+/// slots freed for reuse).
+pub const COUNTS: [&str; 3] = ["live", "emitted", "recycled"];
 
 impl WorkOutput for Spray {
     fn digest(&self) -> u64 {
