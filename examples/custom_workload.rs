@@ -11,7 +11,8 @@
 use oceanbench::config::{InputError, SweepConfig};
 use oceanbench::ocean::Mesh;
 use oceanbench::workload::{
-    self, fold_digest, whole_amount, Kind, MeshWork, Stopped, Work, WorkOutput, WorkSpec,
+    self, fold_digest, whole_amount, Kind, MeshWork, Stopped, Work, WorkCounts, WorkOutput,
+    WorkSpec,
 };
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -108,7 +109,12 @@ struct Floating {
     bodies: Vec<Body>,
     hull: Vec<(f32, f32)>,
     dt: f32,
+    counts: WorkCounts,
 }
+
+/// What the bodies count each frame: those more than half under the surface, and those whose
+/// hull no wave touched (airborne on a crest's far side).
+const COUNTS: [&str; 2] = ["swamped", "airborne"];
 
 impl Floating {
     fn new(spec: &WorkSpec, p: &BuoyancyParams) -> Floating {
@@ -138,6 +144,7 @@ impl Floating {
             bodies,
             hull,
             dt: spec.time_step,
+            counts: WorkCounts::new(&COUNTS, &[0, 0]),
         }
     }
 }
@@ -160,11 +167,16 @@ impl WorkOutput for Floating {
     fn digest(&self) -> u64 {
         fold_digest(1, self.bodies.iter().map(|b| u64::from(b.z.to_bits())))
     }
+
+    fn counts(&self) -> Option<WorkCounts> {
+        Some(self.counts)
+    }
 }
 
 impl MeshWork for Floating {
     fn run(&mut self, _k: u64, mesh: &Mesh, stop: Option<&AtomicBool>) -> Result<(), Stopped> {
         let share = 1.0 / self.hull.len() as f32;
+        let (mut swamped, mut airborne) = (0, 0);
         for (b, body) in self.bodies.iter_mut().enumerate() {
             if b % 4096 == 0 && stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
                 return Err(Stopped);
@@ -175,12 +187,15 @@ impl MeshWork for Floating {
                 .map(|&(du, dv)| (height(mesh, body.u + du, body.v + dv) - body.z).clamp(0.0, 1.0))
                 .sum::<f32>()
                 * share;
+            swamped += u64::from(submerged > 0.5);
+            airborne += u64::from(submerged == 0.0);
             // Half submerged floats still: buoyancy 2g at full depth against g of weight,
             // with some damping.
             let accel = 9.81 * (2.0 * submerged - 1.0) - 0.8 * body.speed;
             body.speed += accel * self.dt;
             body.z += body.speed * self.dt;
         }
+        self.counts = WorkCounts::new(&COUNTS, &[swamped, airborne]);
         Ok(())
     }
 }
