@@ -6,16 +6,15 @@
 //! machine slows down mid-sweep (a shared VM's memory-bound step and ALU-bound workload do not
 //! slow down alike).
 
-pub use crate::config::Calibrate;
-use crate::config::Level;
+pub use crate::level::Calibrate;
+use crate::level::Level;
 use crate::ocean::{Grid, Mesh, OceanKind, OceanParams};
 use crate::stats;
 use crate::workload;
 use serde::{Deserialize, Serialize};
 use std::time::{Duration, Instant};
 
-/// Drift beyond which a row's yardstick is reported as having moved since the sweep started.
-pub const DRIFT_WARNING: f64 = 0.10;
+pub use crate::level::DRIFT_WARNING;
 
 /// The model whose yardstick the sweep's start record of levels (`calibration.levels`) and
 /// `step_ms` use; every other model's steps are kept in `model_step_ms`.

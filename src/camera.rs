@@ -3,8 +3,8 @@
 //! the projected grid and the fog reuse it. A camera may also move along a path in frame time
 //! ([`Camera::view_at`]); [`Camera::eye`] is where it stands at t = 0.
 
+use crate::grid::Grid;
 use crate::input::InputError;
-use crate::ocean::Grid;
 use glam::{Mat4, Vec3};
 use serde::{Deserialize, Serialize};
 

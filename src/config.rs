@@ -2,163 +2,21 @@
 //! defaults that reproduce Figure 5-1 and validation that names the field and what is allowed.
 
 use crate::affinity;
-use crate::balance::record::BalanceSettings;
 use crate::camera::Camera;
+use crate::cell::Mode;
 use crate::cell::{Axes, CellKey};
-use crate::frame_loop::{Budget, Mode};
 pub use crate::machine::available_memory;
 use crate::ocean::{self, mesh, FftParams, Grid, Mesh, OceanParams, Wave, WaveSet};
 use crate::suggest;
-use crate::workload::{self, DynKind, KindParams, WorkloadKind};
+use crate::workload::{self, KindParams, WorkloadKind};
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 pub use crate::input::InputError;
-
-crate::named! {
-    /// When `step_fraction` levels are resolved against the machine.
-    pub enum Calibrate {
-        /// Before every row, from the yardstick measured just before it (the default).
-        Row,
-        /// Once, at the start of the sweep.
-        Once,
-    }
-}
-
-/// One workload level: microseconds of one core's work, a fraction of a mesh size's step, or an
-/// amount in the workload kind's own unit (`{"iterations": N}`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Level {
-    /// Microseconds of one core's work.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub micros: Option<f64>,
-    /// Fraction of the measured step time of mesh `size` (reference kernel, `neighbors` normals).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub step_fraction: Option<f64>,
-    /// The mesh size whose step time `step_fraction` refers to.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub size: Option<usize>,
-    /// An amount in a workload kind's own unit, keyed by the unit's name; any other key lands
-    /// here too, so that validation can name it against the kinds' units.
-    #[serde(flatten)]
-    pub units: BTreeMap<String, f64>,
-}
+pub use crate::level::{too_much_work, Calibrate, Level};
 
 /// Most times a noisy trial may be re-run (`retry_noisy`).
 pub const MAX_RETRY_NOISY: u32 = 10;
-
-impl Level {
-    /// A level of `micros` microseconds.
-    pub fn micros(micros: f64) -> Level {
-        Level {
-            micros: Some(micros),
-            step_fraction: None,
-            size: None,
-            units: BTreeMap::new(),
-        }
-    }
-
-    /// A level of `fraction` × the step time of an N = `size` mesh.
-    pub fn step_fraction(fraction: f64, size: usize) -> Level {
-        Level {
-            micros: None,
-            step_fraction: Some(fraction),
-            size: Some(size),
-            units: BTreeMap::new(),
-        }
-    }
-
-    /// A level of `amount` in a kind's `unit`.
-    pub fn in_unit(unit: &str, amount: u64) -> Level {
-        Level {
-            micros: None,
-            step_fraction: None,
-            size: None,
-            units: BTreeMap::from([(unit.to_string(), amount as f64)]),
-        }
-    }
-
-    /// The level's unit and amount, when it is given in a kind's unit.
-    pub fn amount(&self) -> Option<(&str, u64)> {
-        self.units
-            .iter()
-            .next()
-            .map(|(u, &a)| (u.as_str(), a as u64))
-    }
-
-    /// Checks the level's shape and, for `micros`, its bound: no more than `max_micros`; a level
-    /// in a unit must be in the unit of every workload kind in `kinds`.
-    fn validate(
-        &self,
-        index: usize,
-        max_micros: f64,
-        kinds: &[WorkloadKind],
-    ) -> Result<(), InputError> {
-        let field = format!("workload_levels[{index}]");
-        let kinds: Vec<&dyn DynKind> = kinds.iter().map(|k| k.kind()).collect::<Result<_, _>>()?;
-        let forms = || {
-            let mut units: Vec<&str> = kinds.iter().map(|k| k.unit()).collect();
-            units.dedup();
-            let units: Vec<String> = units.iter().map(|u| format!("{{\"{u}\": N}}")).collect();
-            format!(
-                "give {{\"micros\": US}}, {{\"step_fraction\": F, \"size\": N}} or {}",
-                units.join(" or ")
-            )
-        };
-        if let Some((unit, &amount)) = self.units.iter().next() {
-            let alone = self.units.len() == 1
-                && self.micros.is_none()
-                && self.step_fraction.is_none()
-                && self.size.is_none();
-            if let Some(kind) = kinds.iter().find(|k| k.unit() != unit) {
-                return Err(InputError(format!(
-                    "{field}: `{unit}` is not a unit of workload_kind `{}` (its unit is \
-                     `{}`); {}",
-                    kind.name(),
-                    kind.unit(),
-                    forms()
-                )));
-            }
-            if !alone {
-                return Err(InputError(format!("{field}: {}, one of them", forms())));
-            }
-            for kind in &kinds {
-                kind.check_amount(&format!("{field}.{unit}"), amount)?;
-            }
-            return Ok(());
-        }
-        if let Some((kind, why)) = kinds
-            .iter()
-            .find_map(|k| k.no_time_levels().map(|why| (k, why)))
-        {
-            let (name, unit) = (kind.name(), kind.unit());
-            return Err(InputError(format!(
-                "{field}: workload_kind `{name}` takes its level in {unit}, {{\"{unit}\": N}}; microseconds and step fractions are not converted to {unit} ({why})"
-            )));
-        }
-        match (self.micros, self.step_fraction, self.size) {
-            (Some(us), None, None) if us.is_finite() && (0.0..=max_micros).contains(&us) => Ok(()),
-            (Some(us), None, None) if us.is_finite() && us > max_micros => Err(InputError(
-                too_much_work(&format!("{field}.micros"), us, max_micros),
-            )),
-            (Some(us), None, None) => Err(InputError(format!(
-                "{field}.micros: must be a finite number >= 0, got {us}"
-            ))),
-            (None, Some(f), Some(size)) => {
-                if !(f.is_finite() && f >= 0.0) {
-                    return Err(InputError(format!(
-                        "{field}.step_fraction: must be a finite number >= 0, got {f}"
-                    )));
-                }
-                Grid::new(size, 1.0)
-                    .map(|_| ())
-                    .map_err(|e| InputError(format!("{field}.{e}")))
-            }
-            _ => Err(InputError(format!("{field}: {}", forms()))),
-        }
-    }
-}
 
 /// A sweep: the lists of [`Axes`] are crossed into cells; every other key sets how the cells
 /// are measured. A key left out takes the Figure 5-1 default.
@@ -248,15 +106,6 @@ impl Default for SweepConfig {
             kinds: serde_json::Map::new(),
         }
     }
-}
-
-/// The message for a level of more work per frame than the bound.
-pub fn too_much_work(field: &str, micros: f64, max_micros: f64) -> String {
-    format!(
-        "{field}: {micros} µs of work per frame is more than timeout_seconds allows \
-         (a helper waiting that long for its slot gives the cell up); allowed 0 to {max_micros}, \
-         or raise timeout_seconds"
-    )
 }
 
 /// Workloads 0-3 placed around the step times of the default sizes, as Figure 5-1 has them:
@@ -403,16 +252,6 @@ impl SweepConfig {
             if let Some(params) = params {
                 self.kinds.entry(name).or_insert(params);
             }
-        }
-    }
-
-    /// The trial budget.
-    pub fn budget(&self) -> Budget {
-        Budget {
-            warmup_frames: self.warmup_frames,
-            min_frames: self.min_frames,
-            min_seconds: self.min_seconds,
-            max_seconds: self.max_seconds,
         }
     }
 
@@ -599,4 +438,60 @@ fn check_memory(key: &CellKey, grid: Grid) -> Result<(), InputError> {
         }
     }
     Ok(())
+}
+
+/// How the search runs; the config key `balance` (an object) sets it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BalanceSettings {
+    /// Stop bisecting when the bracket is narrower than this percentage of the step S.
+    pub tolerance_percent: f64,
+    /// Points of the speed-up curve, log-spaced over `range`.
+    pub points: usize,
+    /// The curve's range, and the search's, as W ÷ S.
+    pub range: [f64; 2],
+    /// Paired trials at every probe.
+    pub trials: u32,
+}
+
+impl Default for BalanceSettings {
+    fn default() -> Self {
+        BalanceSettings {
+            tolerance_percent: 2.0,
+            points: 12,
+            range: [0.1, 10.0],
+            trials: 3,
+        }
+    }
+}
+
+impl BalanceSettings {
+    /// Checks every field, naming it and what is allowed.
+    pub fn validate(&self, field: &str) -> Result<(), InputError> {
+        let t = self.tolerance_percent;
+        if !(t.is_finite() && t > 0.0 && t <= 50.0) {
+            return Err(InputError(format!(
+                "{field}tolerance_percent: must be above 0 and at most 50, got {t}"
+            )));
+        }
+        if !(2..=64).contains(&self.points) {
+            return Err(InputError(format!(
+                "{field}points: must be 2 to 64, got {}",
+                self.points
+            )));
+        }
+        let [a, b] = self.range;
+        if !(a.is_finite() && b.is_finite() && 0.0 < a && a < b && b <= 100.0) {
+            return Err(InputError(format!(
+                "{field}range: must be [from, to] with 0 < from < to <= 100 (times the step), got [{a}, {b}]"
+            )));
+        }
+        if !(1..=20).contains(&self.trials) {
+            return Err(InputError(format!(
+                "{field}trials: must be 1 to 20, got {}",
+                self.trials
+            )));
+        }
+        Ok(())
+    }
 }

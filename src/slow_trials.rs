@@ -6,8 +6,8 @@
 //! cross-core round trip just before and after it. A trial well below its cell's median FPS is
 //! put down to every cause whose evidence is there, or to none: unexplained.
 
-use crate::measure::Breakdown;
 use crate::stats;
+use crate::summary::Breakdown;
 use serde::{Deserialize, Serialize};
 
 /// A canary this much slower than its reference says its core ran slower.

@@ -7,9 +7,10 @@ use crate::calibrate::{self, Calibrate, RowCalibration, Yardstick};
 use crate::cell::{Dim, Value};
 use crate::config::{self, InputError, SweepConfig};
 use crate::crosscore;
-use crate::frame_loop::{self, LoopError, LoopSpec, Mode, Threading};
+use crate::findings::placement::{label, round_trips};
+use crate::frame_loop::{self, Budget, LoopError, LoopSpec, Mode, Threading};
 use crate::machine::Machine;
-use crate::measure::{Breakdown, Mailbox, Summary, Trial};
+use crate::measure::Trial;
 use crate::ocean::{Grid, OceanKind, OceanParams};
 use crate::placement::{self, Class, Split};
 use crate::results::{
@@ -17,6 +18,7 @@ use crate::results::{
 };
 use crate::sched::TrialNoise;
 use crate::slow_trials::{self, TrialFacts};
+use crate::summary::{Breakdown, Mailbox, Summary};
 use crate::sync::{Policy, SyncMethod};
 use crate::workload::{Calibration, KindParams, LevelAt, WorkRecord, WorkloadKind};
 use itertools::Itertools;
@@ -377,7 +379,7 @@ impl Sweep {
                 let rt = crosscore::round_trip(self.cores[0], self.cores[1], ROUND_TRIP_BATCHES);
                 self.results.round_trip.during.push(rt);
             }
-            placement::label(&mut self.results);
+            label(&mut self.results);
             observer.row_finished(&self.results);
             if self.stop.load(Ordering::Relaxed) {
                 return self.results;
@@ -395,7 +397,7 @@ impl Sweep {
                 ROUND_TRIP_BATCHES,
             ));
         }
-        placement::label(&mut self.results);
+        label(&mut self.results);
         self.results.finished = Some(utc_now());
         observer.row_finished(&self.results);
         self.results
@@ -429,7 +431,7 @@ impl Sweep {
         let mut retries_left = config.retry_noisy;
         loop {
             let before = self.trial_round_trip();
-            let outcome = frame_loop::run(&run.spec, &config.budget(), |_, _| {});
+            let outcome = frame_loop::run(&run.spec, &budget(config), |_, _| {});
             let around = before.zip(self.trial_round_trip());
             match outcome {
                 Ok(lr) if retries_left > 0 && lr.noise.is_noisy(config.noise_threshold_percent) => {
@@ -456,11 +458,7 @@ impl Sweep {
             .flat_map(|r| &r.facts)
             .filter_map(|f| f.round_trip_ns)
             .flatten();
-        Split::of(
-            placement::run::round_trips(&self.results)
-                .into_iter()
-                .chain(row),
-        )
+        Split::of(round_trips(&self.results).into_iter().chain(row))
     }
 
     /// The workload iterations of a row's cells and how they were set: the yardstick is
@@ -740,7 +738,7 @@ fn partition<T>(items: Vec<T>, keep: &[bool]) -> (Vec<T>, Vec<T>) {
 impl Testbed for Sweep {
     fn trial(&self, key: &CellKey, amount: u64) -> Result<Trial, LoopError> {
         let spec = self.loop_spec(key, amount);
-        frame_loop::run(&spec, &self.results.config.budget(), |_, _| {}).map(|run| run.trial)
+        frame_loop::run(&spec, &budget(&self.results.config), |_, _| {}).map(|run| run.trial)
     }
 
     fn ns_per_iteration(&self) -> f64 {
@@ -750,5 +748,15 @@ impl Testbed for Sweep {
     fn round_trip(&self, batches: usize) -> Option<f64> {
         let [a, b] = self.cores;
         (a != b).then(|| crosscore::round_trip(a, b, batches).median_ns)
+    }
+}
+
+/// A trial's frame budget, as the config sets it.
+fn budget(config: &SweepConfig) -> Budget {
+    Budget {
+        warmup_frames: config.warmup_frames,
+        min_frames: config.min_frames,
+        min_seconds: config.min_seconds,
+        max_seconds: config.max_seconds,
     }
 }

@@ -10,12 +10,13 @@ mod common;
 use common::fixture;
 use oceanbench::cell::{Axes, Dim, Value};
 use oceanbench::config::SweepConfig;
-use oceanbench::measure::{FrameRecord, Summary, Trial};
+use oceanbench::measure::{FrameRecord, Trial};
 use oceanbench::ocean::OceanKind;
 use oceanbench::report::chart::{self, ChartFormat, ChartOptions};
 use oceanbench::report::compare::{self, Metric};
 use oceanbench::report::{csv, markdown};
 use oceanbench::results::{Cell, CellKey, Pins, Results};
+use oceanbench::summary::Summary;
 use serde_json::json;
 
 /// Two values of `dim` and config keys under which cells with both can run. Every dimension

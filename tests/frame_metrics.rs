@@ -2,7 +2,7 @@
 //! frames, ties at the percentile, a long tail; and the order their definitions imply on any
 //! sequence.
 
-use oceanbench::measure::FrameMetrics;
+use oceanbench::summary::FrameMetrics;
 use proptest::prelude::*;
 
 fn close(a: f64, b: f64) -> bool {

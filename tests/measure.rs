@@ -1,7 +1,8 @@
 //! Frame statistics on known frame times, and the workload's determinism.
 
-use oceanbench::measure::{FrameRecord, Summary, Trial};
+use oceanbench::measure::{FrameRecord, Trial};
 use oceanbench::stats::quantile;
+use oceanbench::summary::Summary;
 use oceanbench::workload;
 
 fn trial(ms: &[u64]) -> Trial {
@@ -43,7 +44,7 @@ fn summary_of_known_frame_times() {
     let q = |x: f64| s.frame_time_quantiles.iter().find(|p| p.q == x).unwrap().ms;
     assert_eq!(
         s.frame_time_quantiles.len(),
-        oceanbench::measure::QUANTILES.len()
+        oceanbench::summary::QUANTILES.len()
     );
     assert_eq!((q(0.0), q(0.5), q(0.99), q(1.0)), (10.0, 10.0, 20.0, 100.0));
     // 198 of 300 frames take 10 ms, the rest 20 or 100 ms: the 0.75 quantile is 20 ms.

@@ -6,8 +6,9 @@ mod common;
 
 use common::{assert_one_line_exit_2, assert_success, fixture, oceanbench};
 use oceanbench::cell::{Dim, DimValue};
+use oceanbench::findings::placement::{self, RunPlacement};
 use oceanbench::frame_loop::Mode;
-use oceanbench::placement::{self, Class, RunPlacement};
+use oceanbench::placement::Class;
 use oceanbench::report::compare::{self, Metric};
 use oceanbench::report::{csv, markdown};
 use oceanbench::results::{CellKey, Results};

@@ -351,7 +351,7 @@ fn every_committed_run_carries_its_report() {
 
 #[test]
 fn a_balance_point_gets_its_section() {
-    use oceanbench::balance::record::BalanceEntry;
+    use oceanbench::results::balance::BalanceEntry;
     let mut r = fixture();
     let key = r
         .cells

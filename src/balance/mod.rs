@@ -4,20 +4,20 @@
 //! the cell and its serial (and, for DP, its UP) twins in paired, interleaved trials, and reads
 //! the sign from every frame's recorded waits, which survives noise better than FPS alone.
 //!
-//! The search runs on a [`Testbed`] (the sweep implements it), and what it finds is plain data
-//! in [`record`], which the config and results files hold; so nothing here imports the sweep,
-//! the config or the results.
+//! The search runs on a [`Testbed`] (the sweep implements it), asked by the config's
+//! [`BalanceSettings`], and what it finds is plain data in [`crate::results::balance`], which
+//! the results file holds; so nothing here imports the sweep.
 
-pub mod record;
-
-pub use record::{BalanceEntry, BalanceSettings, PlacementBalance, Probe, Ratio, UnitCost};
+pub use crate::config::BalanceSettings;
+pub use crate::results::balance::{BalanceEntry, PlacementBalance, Probe, Ratio, UnitCost};
 
 use crate::cell::CellKey;
 use crate::frame_loop::{LoopError, Mode};
 use crate::input::InputError;
-use crate::measure::{FrameRecord, Summary, Trial};
+use crate::measure::{FrameRecord, Trial};
 use crate::placement::{Class, Split};
 use crate::stats;
+use crate::summary::Summary;
 
 /// What a search needs of the run it probes on: a trial of any cell at a given workload, the
 /// workload's calibration and the cross-core round trip. The sweep runs real frame loops; a

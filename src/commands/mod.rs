@@ -41,14 +41,7 @@ pub enum CliError {
     Interrupted(String),
 }
 
-/// Exit status of a failure while running, or of a regression `compare` found.
-pub const EXIT_FAILED: u8 = 1;
-/// Exit status of bad input: a config, a flag, a results file or a block.
-pub const EXIT_BAD_INPUT: u8 = 2;
-/// Exit status of a command stopped by Ctrl-C or SIGTERM.
-pub const EXIT_INTERRUPTED: u8 = 130;
-
-pub use run::DEFAULT_PARTICLES;
+pub use crate::exit::{EXIT_BAD_INPUT, EXIT_FAILED, EXIT_INTERRUPTED};
 
 impl CliError {
     /// The process exit status for this error.
@@ -84,7 +77,7 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
 /// trips it holds).
 fn load_results(path: &Path) -> Result<Results, CliError> {
     let mut results = Results::load(path).map_err(|e| InputError(e.to_string()))?;
-    crate::placement::label(&mut results);
+    crate::findings::placement::label(&mut results);
     Ok(results)
 }
 

@@ -2,7 +2,7 @@
 
 use super::{load_results, CliError};
 use crate::cli::PlacementArgs;
-use crate::placement::{self, RunPlacement};
+use crate::findings::placement::{self, RunPlacement};
 use crate::report::markdown;
 use serde::Serialize;
 
@@ -18,7 +18,7 @@ struct Json {
 #[derive(Serialize)]
 struct Balance {
     cell: String,
-    placement: Option<placement::Class>,
+    placement: Option<crate::placement::Class>,
     set_aside: usize,
     placements: Vec<crate::balance::PlacementBalance>,
 }

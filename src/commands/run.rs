@@ -8,10 +8,8 @@ use crate::frame_loop::Mode;
 use crate::report;
 use crate::results::Results;
 use crate::sweep::Sweep;
-use crate::workload::{spray, Spray, WorkloadKind};
-
-/// The slides' particle count, `--particles`'s default.
-pub const DEFAULT_PARTICLES: f64 = 131_072.0;
+use crate::workload::spray::{self, Spray, DEFAULT_PARTICLES};
+use crate::workload::WorkloadKind;
 
 /// The cell `run` measures when its flags are left out: a mid-size mesh in DP, where the
 /// hand-off matters, rather than the sweep's first values.
@@ -197,7 +195,7 @@ fn print_cells(results: &Results) {
             let values: Vec<String> = r.iter().map(|(k, v)| format!("{k} {v}")).collect();
             println!("  {kind} recorded: {}", values.join(", "));
         }
-        let placed = crate::placement::CellPlacement::of(cell);
+        let placed = crate::findings::placement::CellPlacement::of(cell);
         if !placed.classes.is_empty() {
             let mark = if placed.mixed() {
                 format!(

@@ -10,7 +10,7 @@ use std::path::Path;
 pub fn all() -> Vec<(&'static str, &'static str, String)> {
     let config = SweepConfig::default();
     let fft_defaults = crate::ocean::phillips::FftParams::default();
-    let balance_defaults = crate::balance::record::BalanceSettings::default();
+    let balance_defaults = crate::config::BalanceSettings::default();
     let list = |dim: Dim| {
         config
             .axes
@@ -265,17 +265,17 @@ pub fn all() -> Vec<(&'static str, &'static str, String)> {
         (
             "exit_failed",
             "the exit status of a failure while running, or of a regression compare found",
-            crate::commands::EXIT_FAILED.to_string(),
+            crate::exit::EXIT_FAILED.to_string(),
         ),
         (
             "exit_bad_input",
             "the exit status of bad input",
-            crate::commands::EXIT_BAD_INPUT.to_string(),
+            crate::exit::EXIT_BAD_INPUT.to_string(),
         ),
         (
             "exit_interrupted",
             "the exit status of a command stopped by Ctrl-C or SIGTERM",
-            crate::commands::EXIT_INTERRUPTED.to_string(),
+            crate::exit::EXIT_INTERRUPTED.to_string(),
         ),
         (
             "interval_percent",
@@ -368,7 +368,7 @@ pub fn all() -> Vec<(&'static str, &'static str, String)> {
         (
             "default_particles",
             "the spray pool `run --workload-kind spray` uses without --particles",
-            crate::commands::DEFAULT_PARTICLES.to_string(),
+            crate::workload::spray::DEFAULT_PARTICLES.to_string(),
         ),
         (
             "max_fog_volume",
@@ -519,7 +519,7 @@ pub fn all() -> Vec<(&'static str, &'static str, String)> {
         (
             "stutter_factor",
             "a frame longer than this many average frame times is a stutter (CapFrameX's factor)",
-            format!("{}", crate::measure::STUTTER_FACTOR),
+            format!("{}", crate::summary::STUTTER_FACTOR),
         ),
         (
             "default_wavelengths",

@@ -79,7 +79,7 @@ impl Context {
                 ));
             }
             let mut results = Results::load(&path).map_err(|e| e.to_string())?;
-            crate::placement::label(&mut results);
+            crate::findings::placement::label(&mut results);
             if let Some(why) = refused(&results) {
                 return Err(format!("run `{name}` {why}"));
             }
@@ -283,7 +283,7 @@ pub fn source(results: &Results, link: &str) -> String {
     if let Some(line) = markdown::placement_line(results) {
         let _ = write!(out, "; placement: {line}");
     } else {
-        let rts: Vec<f64> = crate::placement::run::round_trips(results);
+        let rts: Vec<f64> = crate::findings::placement::round_trips(results);
         if !rts.is_empty() {
             let (lo, hi) = stats::min_max(&rts);
             let _ = write!(out, "; cross-core round trip {lo:.0}-{hi:.0} ns");

@@ -83,7 +83,7 @@ pub const MIN_TRIALS: usize = 5;
 
 /// Relative difference of a workload level's microseconds between two runs above which the
 /// levels are not the same game work: the calibration drift the sweep itself warns about.
-pub const LEVEL_MISMATCH: f64 = crate::calibrate::DRIFT_WARNING;
+pub const LEVEL_MISMATCH: f64 = crate::level::DRIFT_WARNING;
 
 /// Resamples per bootstrap: enough for stable 2.5%/97.5% percentiles, cheap for a few hundred cells.
 const RESAMPLES: usize = 10_000;

@@ -1,9 +1,10 @@
 //! CSV files through the `csv` crate, from flat row structs: the results table (one row per
 //! cell, one column per dimension or statistic) and `mesh --out`.
 
-use crate::balance::Ratio;
-use crate::calibrate::Calibrate;
-use crate::placement::{CellPlacement, Class};
+use crate::findings::placement::CellPlacement;
+use crate::level::Calibrate;
+use crate::placement::Class;
+use crate::results::balance::Ratio;
 use crate::results::{Cell, CellKey, CellNoise, Results};
 use crate::stats;
 use itertools::Itertools;
@@ -134,7 +135,7 @@ impl<'a> CellRow<'a> {
         let latency = s.and_then(|s| s.latency.as_ref());
         let mailbox = s.and_then(|s| s.mailbox.as_ref());
         let metrics = s.and_then(|s| s.frame_metrics.as_ref());
-        let stat = |f: fn(&crate::measure::Summary) -> f64| s.map(f);
+        let stat = |f: fn(&crate::summary::Summary) -> f64| s.map(f);
         let placed = CellPlacement::of(cell);
         let trials = |c: Class| placed.get(c).map_or(0, |t| t.trials);
         let fps = |c: Class| placed.get(c).map(|t| t.fps);
@@ -268,7 +269,7 @@ struct TrialRow<'a> {
     trial: usize,
     fps: f64,
     #[serde(flatten)]
-    breakdown: &'a crate::measure::Breakdown,
+    breakdown: &'a crate::summary::Breakdown,
     step_ratio: Option<f64>,
     workload_ratio: Option<f64>,
     round_trip_before_ns: Option<f64>,

@@ -1,10 +1,11 @@
 //! The Figure 5-1 table: rows mesh size × workload, columns serial / UP / DP and the ratios, one
 //! table per combination of the other dimensions (hand-off method, threading, normals, kernel...).
 
-use crate::balance::{BalanceEntry, Ratio};
-use crate::calibrate::{self, Calibrate};
 use crate::cell::{Dim, DimValue, Mode};
-use crate::placement::{Class, RunPlacement};
+use crate::findings::placement::RunPlacement;
+use crate::level::{self, Calibrate};
+use crate::placement::Class;
+use crate::results::balance::{BalanceEntry, Ratio};
 use crate::results::{Cell, CellKey, CellNoise, Results};
 use crate::slow_trials::{Cause, Slow, TrialRecord};
 use crate::stats;
@@ -217,7 +218,7 @@ pub fn noise_warnings(results: &Results) -> Vec<String> {
         };
         out.push(format!(
             "the machine drifted more than {:.0}% from the start's calibration in {} row(s): {}; {what}",
-            100.0 * calibrate::DRIFT_WARNING,
+            100.0 * level::DRIFT_WARNING,
             drifted.len(),
             drifted.join(", ")
         ));
@@ -502,7 +503,7 @@ pub fn placement(results: &Results) -> String {
                 .map_or("", |(_, rest)| rest),
         );
     }
-    if let Some(f) = crate::placement::finding(results) {
+    if let Some(f) = crate::findings::placement::finding(results) {
         let _ = writeln!(out, "{}\n", f.sentence);
     }
     out

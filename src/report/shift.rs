@@ -1,8 +1,8 @@
 //! How balance points moved between two runs: the shift of the balance workload and of the
 //! speed-up there, each with an interval from the two runs' own.
 
-use crate::balance::record::BalanceEntry;
 use crate::cell::Dim;
+use crate::results::balance::BalanceEntry;
 use crate::results::Results;
 use serde::{Deserialize, Serialize};
 

@@ -7,17 +7,16 @@
 
 pub mod fog;
 mod kind;
-pub mod record;
 mod render;
 pub mod spray;
 mod synthetic;
 
+pub use crate::summary::work::{CountStats, WorkCounts, WorkRecord, WorkTrial, MAX_COUNTS};
 pub use fog::{Fog, FogParams, FogRecord};
 pub use kind::{
     kinds, lookup, names, register, whole_amount, DynKind, Kind, KindParams, LevelAt, WorkloadKind,
     MAX_AMOUNT,
 };
-pub use record::{CountStats, WorkCounts, WorkRecord, WorkTrial, MAX_COUNTS};
 pub use render::Render;
 pub use spray::{Spray, SprayParams};
 pub use synthetic::{run, run_unless, Calibration, Synthetic};

@@ -3,8 +3,8 @@
 use super::render::{Bar, BarPanel, BarPlot, Body, Chart, Frame, Legend, RefLine};
 use super::{mode_name, Missing, NothingToDraw, Runs, CHART_SIZE};
 use crate::cell::Mode;
-use crate::measure::Summary;
 use crate::stats;
+use crate::summary::Summary;
 use plotters::style::RGBColor;
 
 /// Colour per mode: serial grey, UP orange, DP blue (Okabe-Ito, readable with colour blindness).

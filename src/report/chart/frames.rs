@@ -4,7 +4,7 @@ use super::bars::shade;
 use super::render::{Body, Chart, Frame, Legend, LinePanel, LinePlot, Series, StackPlot, StackRow};
 use super::{mode_name, short_mode, sync_color, Missing, NothingToDraw, Runs, CHART_SIZE};
 use crate::cell::Mode;
-use crate::measure::{Summary, QUANTILES};
+use crate::summary::{Summary, QUANTILES};
 use crate::sync::SyncMethod;
 use plotters::style::RGBColor;
 

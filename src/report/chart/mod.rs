@@ -12,8 +12,8 @@ mod render;
 
 use crate::cell::Mode;
 use crate::cell::{Axes, Dim, DimValue, Value};
-use crate::measure::Summary;
 use crate::results::{CellKey, Results};
+use crate::summary::Summary;
 use crate::sync::SyncMethod;
 use itertools::Itertools;
 use plotters::style::RGBColor;

@@ -88,7 +88,7 @@ pub fn page(
                     h3 id="placement" { "Placement" }
                     p { (line) }
                     @if let Some(t) = markdown::placement_table(results) { (table(&t)) }
-                    @if let Some(f) = crate::placement::finding(results) {
+                    @if let Some(f) = crate::findings::placement::finding(results) {
                         p id="placement-finding" { (f.sentence) }
                     }
                 }

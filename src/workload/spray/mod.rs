@@ -22,6 +22,9 @@ pub const GRAVITY: f32 = 9.81;
 /// Most particles a pool may hold: its free list counts slots in `u32`.
 pub const MAX_PARTICLES: u64 = u32::MAX as u64;
 
+/// The slides' particle count: the pool `run --workload-kind spray` fills without `--particles`.
+pub const DEFAULT_PARTICLES: f64 = 131_072.0;
+
 /// Particles integrated or tested between two looks at the stop flag: tens of microseconds.
 const CHUNK: usize = 1 << 14;
 

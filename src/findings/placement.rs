@@ -2,12 +2,18 @@
 //! cell's trials by placement, and the per-run finding (does DP behave differently on the two
 //! placements?). Results in, facts out.
 
-use super::{mixed, Class, Split};
-use crate::frame_loop::Mode;
+use crate::cell::Mode;
+use crate::placement::{mixed, Class, Split};
 use crate::results::{Cell, CellKey, Results};
 use crate::slow_trials::TrialRecord;
 use crate::stats;
 use serde::{Deserialize, Serialize};
+
+/// The split of every round trip a results file holds: around each trial, around each balance
+/// probe, before and after each search, and the run's own before, during and after.
+pub fn split(results: &Results) -> Option<Split> {
+    Split::of(round_trips(results))
+}
 
 /// Every round trip in `results`, in no particular order (ns).
 pub fn round_trips(results: &Results) -> Vec<f64> {
@@ -32,7 +38,7 @@ pub fn round_trips(results: &Results) -> Vec<f64> {
 /// round trips it holds (its DP trials') as a new file's are. Everything else here reads the
 /// labels.
 pub fn label(results: &mut Results) {
-    let split = Split::of_results(results);
+    let split = split(results);
     for c in &mut results.cells {
         for t in c.trials.iter_mut().chain(c.set_aside.iter_mut()) {
             t.placement = split.as_ref().and_then(|s| trial_class(s, t));

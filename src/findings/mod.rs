@@ -9,8 +9,10 @@
 //! (an unexplained slow trial) or § (mixed placements), and when a cell has no per-trial
 //! records (files from before schema 3), since then no slow trial could be attributed.
 
+pub mod placement;
+
+use crate::cell::Mode;
 use crate::cell::{Dim, DimValue, Value};
-use crate::frame_loop::Mode;
 use crate::results::{Cell, CellKey, Results};
 use crate::stats;
 use serde::{Deserialize, Serialize};
@@ -771,7 +773,7 @@ pub fn of(results: &Results) -> Findings {
         findings.extend(marks(results, s));
     }
     findings.extend(handoffs(results));
-    if let Some(p) = crate::placement::finding(results) {
+    if let Some(p) = crate::findings::placement::finding(results) {
         findings.push(Finding {
             id: "placement".into(),
             slice: Slice::default(),

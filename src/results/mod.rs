@@ -1,14 +1,16 @@
 //! The results file: the interface between measuring and reporting. Tables, charts and
 //! comparisons are drawn from it alone.
 
+pub mod balance;
+
 use crate::calibrate::{RowCalibration, Yardstick};
 pub use crate::cell::CellKey;
 use crate::config::{Level, SweepConfig};
 use crate::crosscore::RoundTrip;
 use crate::machine::Machine;
-use crate::measure::Summary;
 use crate::sched::TrialNoise;
 use crate::slow_trials::TrialRecord;
+use crate::summary::Summary;
 use crate::workload::Calibration;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -89,7 +91,7 @@ impl Cell {
     }
 
     /// Whether its kept trials ran in more than one placement, or moved during one (the tables'
-    /// §), by their labels ([`crate::placement::label`]).
+    /// §), by their labels ([`crate::findings::placement::label`]).
     pub fn mixed_placements(&self) -> bool {
         let classes: Vec<_> = self.trials.iter().map(|t| t.placement).collect();
         crate::placement::mixed(&classes)
@@ -277,7 +279,7 @@ pub struct Results {
     pub doctor: Option<crate::doctor::Report>,
     /// Balance points found (`oceanbench balance`, or a sweep with a `balance` key).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub balance: Vec<crate::balance::record::BalanceEntry>,
+    pub balance: Vec<balance::BalanceEntry>,
     /// Balance searches a sweep could not complete, and why.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub balance_failures: Vec<String>,

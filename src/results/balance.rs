@@ -1,67 +1,10 @@
-//! What a balance search is asked to do and what it found: plain data, held by the config
-//! (the `balance` key) and the results file, below the search that fills it.
+//! What a balance search found: plain data, held by the results file, below the search
+//! ([`crate::balance`]) that fills it.
 
 use crate::cell::CellKey;
-use crate::input::InputError;
 use crate::placement::Class;
 use crate::stats;
 use serde::{Deserialize, Serialize};
-
-/// How the search runs; the config key `balance` (an object) sets it.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct BalanceSettings {
-    /// Stop bisecting when the bracket is narrower than this percentage of the step S.
-    pub tolerance_percent: f64,
-    /// Points of the speed-up curve, log-spaced over `range`.
-    pub points: usize,
-    /// The curve's range, and the search's, as W ÷ S.
-    pub range: [f64; 2],
-    /// Paired trials at every probe.
-    pub trials: u32,
-}
-
-impl Default for BalanceSettings {
-    fn default() -> Self {
-        BalanceSettings {
-            tolerance_percent: 2.0,
-            points: 12,
-            range: [0.1, 10.0],
-            trials: 3,
-        }
-    }
-}
-
-impl BalanceSettings {
-    /// Checks every field, naming it and what is allowed.
-    pub fn validate(&self, field: &str) -> Result<(), InputError> {
-        let t = self.tolerance_percent;
-        if !(t.is_finite() && t > 0.0 && t <= 50.0) {
-            return Err(InputError(format!(
-                "{field}tolerance_percent: must be above 0 and at most 50, got {t}"
-            )));
-        }
-        if !(2..=64).contains(&self.points) {
-            return Err(InputError(format!(
-                "{field}points: must be 2 to 64, got {}",
-                self.points
-            )));
-        }
-        let [a, b] = self.range;
-        if !(a.is_finite() && b.is_finite() && 0.0 < a && a < b && b <= 100.0) {
-            return Err(InputError(format!(
-                "{field}range: must be [from, to] with 0 < from < to <= 100 (times the step), got [{a}, {b}]"
-            )));
-        }
-        if !(1..=20).contains(&self.trials) {
-            return Err(InputError(format!(
-                "{field}trials: must be 1 to 20, got {}",
-                self.trials
-            )));
-        }
-        Ok(())
-    }
-}
 
 /// One measured workload.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -96,7 +39,7 @@ pub struct Probe {
 impl Probe {
     /// Per trial: positive while the main thread waits (below the balance), negative while the
     /// helper idles (above it).
-    pub(super) fn signs(&self) -> Vec<f64> {
+    pub(crate) fn signs(&self) -> Vec<f64> {
         self.main_wait_us
             .iter()
             .zip(&self.helper_wait_us)
@@ -107,7 +50,7 @@ impl Probe {
     /// Whether the main thread waits (below the balance) or the helper idles (above it), or
     /// `None` when the mean over trials lies within two standard errors of zero: the balance is
     /// then within [`Probe::noise_us`] of this probe.
-    pub(super) fn below(&self) -> Option<bool> {
+    pub(crate) fn below(&self) -> Option<bool> {
         let signs = self.signs();
         let mean = stats::mean(&signs);
         if mean.abs() > self.noise_us() {
@@ -123,7 +66,7 @@ impl Probe {
     }
 
     /// Two standard errors of the mean wait difference over the trials (µs).
-    pub(super) fn noise_us(&self) -> f64 {
+    pub(crate) fn noise_us(&self) -> f64 {
         let signs = self.signs();
         2.0 * stats::stddev(&signs) / (signs.len() as f64).sqrt()
     }
@@ -151,7 +94,7 @@ pub struct Ratio {
 }
 
 impl Ratio {
-    pub(super) fn of(base: &[f64], new: &[f64], seed: u64) -> Ratio {
+    pub(crate) fn of(base: &[f64], new: &[f64], seed: u64) -> Ratio {
         let value = stats::mean(new) / stats::mean(base);
         let (low, high) = if base.len() < 2 || new.len() < 2 {
             (value, value)

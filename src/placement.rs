@@ -6,13 +6,9 @@
 //! round trips measured around it, against the run's own distribution of round trips: one
 //! cluster (one placement throughout), or two (near and far).
 //!
-//! This module holds the classes and the rules; [`run`] places a results file's trials and
-//! draws what the run shows from them. Everything here is plain data in, facts out: no
-//! measuring, no I/O.
-
-pub mod run;
-
-pub use run::{finding, label, CellPlacement, Finding, RunPlacement};
+//! This module holds the classes and the rules, below the results that carry them;
+//! [`crate::findings::placement`] places a results file's trials and draws what the run shows
+//! from them. Everything here is plain data in, facts out: no measuring, no I/O.
 
 use crate::crosscore::PLACEMENT_CHANGE_RATIO;
 use serde::{Deserialize, Serialize};
@@ -89,12 +85,6 @@ impl Split {
             far_count: ranked.get(1).map_or(0, |g| g.len()),
             outliers: v.len() - clustered,
         })
-    }
-
-    /// The split of every round trip a results file holds: around each trial, around each
-    /// balance probe, before and after each search, and the run's own before, during and after.
-    pub fn of_results(results: &crate::results::Results) -> Option<Split> {
-        Split::of(run::round_trips(results))
     }
 
     /// Whether the round trips form two clusters.
