@@ -90,3 +90,37 @@ impl<T: ?Sized + Entry + 'static> Registry<T> {
         kept
     }
 }
+
+/// Gives an interned name type (a tuple struct of one `&'static str` with a `named`
+/// constructor) its `Display` (the name), `Debug` (`Type(name)`) and serde as a plain string:
+/// a name another program registered reads back as itself.
+#[macro_export]
+macro_rules! registered_name {
+    ($t:ident) => {
+        impl ::std::fmt::Display for $t {
+            fn fmt(&self, f: &mut ::std::fmt::Formatter<'_>) -> ::std::fmt::Result {
+                f.write_str(self.0)
+            }
+        }
+
+        impl ::std::fmt::Debug for $t {
+            fn fmt(&self, f: &mut ::std::fmt::Formatter<'_>) -> ::std::fmt::Result {
+                write!(f, "{}({})", stringify!($t), self.0)
+            }
+        }
+
+        impl ::serde::Serialize for $t {
+            fn serialize<S: ::serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+                s.serialize_str(self.0)
+            }
+        }
+
+        impl<'de> ::serde::Deserialize<'de> for $t {
+            fn deserialize<D: ::serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+                Ok($t::named(&<String as ::serde::Deserialize>::deserialize(
+                    d,
+                )?))
+            }
+        }
+    };
+}

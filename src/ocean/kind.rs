@@ -8,8 +8,6 @@ use super::normals::NormalMethod;
 use crate::input::InputError;
 use crate::registry::{Entry, Registry};
 use crate::suggest;
-use serde::{Deserialize, Serialize};
-use std::fmt;
 
 /// An ocean model's name, as configs, cells and results give it. Any name reads back from a
 /// results file (one written by a binary that registered more models); configs and flags accept
@@ -47,29 +45,7 @@ impl OceanKind {
     }
 }
 
-impl fmt::Display for OceanKind {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.0)
-    }
-}
-
-impl fmt::Debug for OceanKind {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "OceanKind({})", self.0)
-    }
-}
-
-impl Serialize for OceanKind {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(self.0)
-    }
-}
-
-impl<'de> Deserialize<'de> for OceanKind {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        Ok(OceanKind::named(&String::deserialize(d)?))
-    }
-}
+crate::registered_name!(OceanKind);
 
 /// The model of a name this program never registered: it offers nothing and runs nothing, so
 /// a cell naming it is refused with the registered models listed.
