@@ -1,6 +1,7 @@
 //! CSV files through the `csv` crate, from flat row structs: the results table (one row per
 //! cell, one column per dimension or statistic) and `mesh --out`.
 
+use super::export::{Export, ExportError, Exporter};
 use crate::findings::placement::CellPlacement;
 use crate::level::Calibrate;
 use crate::placement::Class;
@@ -467,4 +468,32 @@ fn to_text<T: Serialize>(rows: impl IntoIterator<Item = T>) -> Result<String, Cs
     let mut out = Vec::new();
     write(&mut out, rows)?;
     Ok(String::from_utf8(out).expect("every field written is UTF-8"))
+}
+
+/// The CSV format: one row per cell (`results.csv`), per trial (`trials.csv`) and, with balance
+/// points, per point, per probe and per placement.
+pub struct Csv;
+
+impl Exporter for Csv {
+    fn export(&self, results: &Results) -> Result<Vec<Export>, ExportError> {
+        let file = |name: &'static str, text: Result<String, CsvError>| {
+            text.map(|text| Export { name, text })
+                .map_err(|e| ExportError::of(name)(e.to_string()))
+        };
+        let mut files = Vec::new();
+        if !results.cells.is_empty() {
+            files.push(file("results.csv", to_string(results))?);
+        }
+        if results.cells.iter().any(|c| !c.trials.is_empty()) {
+            files.push(file("trials.csv", trials(results))?);
+        }
+        if !results.balance.is_empty() {
+            files.push(file("balance.csv", balance(results))?);
+            files.push(file("balance-probes.csv", balance_probes(results))?);
+            if results.balance.iter().any(|e| !e.placements.is_empty()) {
+                files.push(file("balance-placements.csv", balance_placements(results))?);
+            }
+        }
+        Ok(files)
+    }
 }

@@ -1,5 +1,6 @@
 //! The JSON results file and the atomic write every output uses.
 
+use super::export::{Export, ExportError, Exporter};
 use crate::results::Results;
 use std::io::Write;
 use std::path::Path;
@@ -28,4 +29,25 @@ fn write_synced(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let mut file = std::fs::File::create(path)?;
     file.write_all(bytes)?;
     file.sync_all()
+}
+
+/// The JSON format: the results file itself and its findings.
+pub struct Json;
+
+impl Exporter for Json {
+    fn export(&self, results: &Results) -> Result<Vec<Export>, ExportError> {
+        Ok(vec![
+            Export {
+                name: "results.json",
+                text: to_string(results)
+                    .map_err(|e| ExportError::of("results.json")(e.to_string()))?,
+            },
+            Export {
+                name: "findings.json",
+                text: crate::findings::of(results)
+                    .to_json()
+                    .map_err(|e| ExportError::of("findings.json")(e.to_string()))?,
+            },
+        ])
+    }
 }

@@ -1,6 +1,7 @@
 //! The Figure 5-1 table: rows mesh size × workload, columns serial / UP / DP and the ratios, one
 //! table per combination of the other dimensions (hand-off method, threading, normals, kernel...).
 
+use super::export::{Export, ExportError, Exporter};
 use crate::cell::{Dim, DimValue, Mode};
 use crate::findings::placement::RunPlacement;
 use crate::level::{self, Calibrate};
@@ -1060,4 +1061,16 @@ pub fn fps_tables_of(results: &Results) -> Vec<(crate::findings::Slice, Table)> 
             (crate::findings::Slice::of(&slice_dims, &g), table)
         })
         .collect()
+}
+
+/// The markdown format: `results.md`, the Figure 5-1 tables and everything beside them.
+pub struct Markdown;
+
+impl Exporter for Markdown {
+    fn export(&self, results: &Results) -> Result<Vec<Export>, ExportError> {
+        Ok(vec![Export {
+            name: "results.md",
+            text: to_string(results),
+        }])
+    }
 }

@@ -2,13 +2,16 @@
 //! markdown table, the charts, the comparisons and the HTML page. The three tables are rewritten whole,
 //! atomically, after every finished row of cells.
 
+pub mod analysis;
 pub mod chart;
-pub mod compare;
 pub mod csv;
+pub mod export;
 pub mod html;
 pub mod json;
 pub mod markdown;
-pub mod shift;
+pub mod verdicts;
+
+pub use analysis::{compare, shift};
 
 use crate::results::Results;
 use std::path::{Path, PathBuf};
@@ -23,59 +26,22 @@ pub struct WriteError {
     pub source: std::io::Error,
 }
 
-/// Writes `results.json`, `findings.json`, `results.csv`, `trials.csv` and `results.md` into `dir` (and
-/// `balance.csv` and `balance-probes.csv` when there are balance points, and
-/// `balance-placements.csv` when their probes were placed), each atomically.
+/// Writes every format's files ([`export::EXPORTERS`]) into `dir`, each atomically: today
+/// `results.json`, `findings.json`, `results.md`, `results.csv`, `trials.csv`, and with balance
+/// points `balance.csv`, `balance-probes.csv` and `balance-placements.csv`. Every file is built
+/// before the first is written, so a format that fails leaves the folder as it was.
 pub fn write_all(dir: &Path, results: &Results) -> Result<(), WriteError> {
-    let failed = |name: &str| {
-        let path = dir.join(name);
-        move |source| WriteError { path, source }
-    };
-    let from_csv = |name: &str, text: Result<String, csv::CsvError>| {
-        text.map_err(|e| failed(name)(std::io::Error::other(e)))
-    };
-    let mut files = vec![
-        (
-            "results.json",
-            json::to_string(results).map_err(failed("results.json"))?,
-        ),
-        ("results.md", markdown::to_string(results)),
-        (
-            "findings.json",
-            crate::findings::of(results)
-                .to_json()
-                .map_err(|e| failed("findings.json")(e.into()))?,
-        ),
-    ];
-    if !results.cells.is_empty() {
-        files.push((
-            "results.csv",
-            from_csv("results.csv", csv::to_string(results))?,
-        ));
+    let mut files = Vec::new();
+    for exporter in export::EXPORTERS {
+        files.extend(exporter.export(results).map_err(|e| WriteError {
+            path: dir.join(e.name),
+            source: std::io::Error::other(e.message),
+        })?);
     }
-    if results.cells.iter().any(|c| !c.trials.is_empty()) {
-        files.push(("trials.csv", from_csv("trials.csv", csv::trials(results))?));
-    }
-    if !results.balance.is_empty() {
-        files.push((
-            "balance.csv",
-            from_csv("balance.csv", csv::balance(results))?,
-        ));
-        let probes = csv::balance_probes(results);
-        files.push((
-            "balance-probes.csv",
-            from_csv("balance-probes.csv", probes)?,
-        ));
-        if results.balance.iter().any(|e| !e.placements.is_empty()) {
-            let placements = csv::balance_placements(results);
-            files.push((
-                "balance-placements.csv",
-                from_csv("balance-placements.csv", placements)?,
-            ));
-        }
-    }
-    for (name, text) in files {
-        json::write_atomic(&dir.join(name), text.as_bytes()).map_err(failed(name))?;
+    for file in files {
+        let path = dir.join(file.name);
+        json::write_atomic(&path, file.text.as_bytes())
+            .map_err(|source| WriteError { path, source })?;
     }
     Ok(())
 }
