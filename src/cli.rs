@@ -189,10 +189,15 @@ pub struct RunArgs {
     /// Workload as microseconds of one core's work, instead of a level index.
     #[arg(long, conflicts_with = "workload", allow_negative_numbers = true)]
     pub workload_micros: Option<f64>,
-    /// With `--workload-kind spray`: the particle pool's capacity, the spray's level
-    /// [default: 131072].
-    #[arg(long, conflicts_with = "workload", allow_negative_numbers = true)]
-    pub particles: Option<f64>,
+    /// The level in the workload kind's own unit (synthetic: iterations; spray: particles,
+    /// by default the kind's own; fog: the volume's edge), instead of a level index.
+    #[arg(
+        long,
+        visible_alias = "particles",
+        conflicts_with_all = ["workload", "workload_micros"],
+        allow_negative_numbers = true
+    )]
+    pub amount: Option<f64>,
     /// Waves file (JSON); default: the built-in deep-ocean set.
     #[arg(long)]
     pub waves: Option<PathBuf>,

@@ -706,14 +706,26 @@ fn bad_particle_counts_exit_2_with_one_line_and_keep_what_was_written() {
     let kept = dir.path().join("results.json");
     std::fs::write(&kept, "{\"earlier\": true}").unwrap();
     let out = dir.path().to_string_lossy().into_owned();
-    for (particles, needles) in [
-        ("0", vec!["--particles", "1 to 4294967295", "got 0"]),
-        ("-5", vec!["--particles", "1 to 4294967295", "got -5"]),
-        ("2.5", vec!["--particles", "whole number"]),
-        ("1e12", vec!["--particles", "MiB for the pool", "available"]),
+    for (flag, particles, needles) in [
+        (
+            "--amount",
+            "0",
+            vec!["--amount", "1 to 4294967295", "got 0"],
+        ),
+        (
+            "--particles",
+            "-5",
+            vec!["--amount", "1 to 4294967295", "got -5"],
+        ),
+        ("--amount", "2.5", vec!["--amount", "whole number"]),
+        (
+            "--amount",
+            "1e12",
+            vec!["--amount", "MiB for the pool", "available"],
+        ),
     ] {
         let mut args = SPRAY.to_vec();
-        args.extend(["--particles", particles, "--out", &out]);
+        args.extend([flag, particles, "--out", &out]);
         refuses(&args, &needles);
     }
     assert_eq!(
@@ -722,10 +734,17 @@ fn bad_particle_counts_exit_2_with_one_line_and_keep_what_was_written() {
     );
     let mut micros = SPRAY.to_vec();
     micros.extend(["--workload-micros", "100"]);
-    refuses(&micros, &["--workload-micros", "--particles N"]);
     refuses(
-        &["run", "--particles", "1000"],
-        &["--particles", "--workload-kind spray"],
+        &micros,
+        &[
+            "--workload-micros",
+            "no per-particle calibration",
+            "--amount N",
+        ],
+    );
+    refuses(
+        &["run", "--amount", "1000", "--workload-micros", "5"],
+        &["--amount", "--workload-micros"],
     );
     refuses(
         &["run", "--workload-kind", "spray", "--ocean", "sines"],
@@ -848,4 +867,35 @@ fn a_sweep_over_both_oceans_skips_the_spray_cells_on_sines_and_says_so_once() {
     assert_eq!(keys, ["live", "emitted", "recycled"]);
     let live = trials[0].count("live").unwrap();
     assert!(live.max.unwrap() <= 500 && live.min <= live.max);
+}
+
+/// `run --amount N` gives the level in the kind's own unit, whatever the kind.
+#[test]
+fn run_takes_a_level_in_the_kinds_own_unit() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("amount");
+    let status = oceanbench(&[
+        "run",
+        "--size",
+        "8",
+        "--mode",
+        "serial",
+        "--amount",
+        "1234",
+        "--frames",
+        "3",
+        "--seconds",
+        "0",
+        "--trials",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_success(&status);
+    let results = Results::load(&out).unwrap();
+    let cell = &results.cells[0];
+    assert_eq!(
+        (cell.workload_unit(), cell.workload_amount()),
+        ("iterations", 1234)
+    );
 }

@@ -12,7 +12,6 @@ use crate::report;
 use crate::report::chart::{self, ChartOptions};
 use crate::sweep::{self, Sweep};
 use crate::sync::SyncMethod;
-use crate::workload::{Spray, WorkloadKind};
 
 /// What `balance` searches when no config or flag says otherwise: the Figure 5-1 sizes in DP
 /// with the paper's interlocked hand-off, and a short trial budget (a search runs hundreds).
@@ -48,10 +47,18 @@ pub(super) fn balance(args: BalanceArgs) -> Result<(), CliError> {
     for (dim, values) in &args.select.given {
         config.axes.set(*dim, values)?;
     }
-    if config.axes.workload_kind.contains(&WorkloadKind::SPRAY) && args.config.is_none() {
-        // The search sets the level itself; the config needs one in the kind's unit.
-        config.workload_levels = vec![Level::in_unit(Spray::UNIT, 131_072)];
-        config.axes.workloads = vec![0];
+    if args.config.is_none() {
+        // The search sets the level itself; a kind whose levels are not in time needs one in
+        // its unit to start from.
+        let start = config.axes.workload_kind.iter().find_map(|k| {
+            let kind = k.kind().ok()?;
+            kind.no_time_levels()?;
+            Some(Level::in_unit(kind.unit(), kind.default_amount()?))
+        });
+        if let Some(level) = start {
+            config.workload_levels = vec![level];
+            config.axes.workloads = vec![0];
+        }
     }
     let mut settings = config.balance.clone().unwrap_or_default();
     if let Some(t) = args.tolerance {

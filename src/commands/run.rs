@@ -3,12 +3,11 @@
 use super::{command_line, fail_on_errors, interrupt, lock_cores, prepare_out_dir, CliError};
 use crate::cell::{Axes, Dim};
 use crate::cli::{DimArgs, RunArgs};
-use crate::config::{available_memory, InputError, Level, SweepConfig};
+use crate::config::{InputError, Level, SweepConfig};
 use crate::frame_loop::Mode;
 use crate::report;
 use crate::results::Results;
 use crate::sweep::Sweep;
-use crate::workload::spray::{self, Spray, DEFAULT_PARTICLES};
 use crate::workload::WorkloadKind;
 
 /// The cell `run` measures when its flags are left out: a mid-size mesh in DP, where the
@@ -72,26 +71,9 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
     };
     args.noise.apply(&mut config);
     args.camera.apply(&mut config.camera);
-    if let Some(us) = args.workload_micros {
-        config.workload_levels = vec![Level::micros(us)];
+    if let Some(level) = given_level(&config, args.workload_micros, args.amount)? {
+        config.workload_levels = vec![level];
         config.axes.workloads = vec![0];
-    }
-    if config.axes.workload_kind.contains(&WorkloadKind::SPRAY) {
-        if args.workload_micros.is_some() {
-            return Err(InputError(
-                "--workload-micros: spray's level is a particle count; give --particles N".into(),
-            )
-            .into());
-        }
-        let particles = args.particles.unwrap_or(DEFAULT_PARTICLES);
-        spray::check_particles("--particles", particles, available_memory())?;
-        config.workload_levels = vec![Level::in_unit(Spray::UNIT, particles as u64)];
-        config.axes.workloads = vec![0];
-    } else if args.particles.is_some() {
-        return Err(InputError(
-            "--particles: the spray's level; give it with --workload-kind spray".into(),
-        )
-        .into());
     }
     let _out_lock = args.out.as_deref().map(prepare_out_dir).transpose()?;
     config.validate()?;
@@ -238,5 +220,42 @@ fn print_cells(results: &Results) {
                     .map_or("–".to_string(), |[a, b]| format!("{a:.0} / {b:.0} ns"))
             );
         }
+    }
+}
+
+/// The level `run` was given: `--workload-micros` in µs, `--amount` in the kind's unit, or for
+/// a kind whose levels cannot be given in time, its default amount; `None` leaves the config's
+/// levels.
+fn given_level(
+    config: &SweepConfig,
+    micros: Option<f64>,
+    amount: Option<f64>,
+) -> Result<Option<Level>, InputError> {
+    let kind = config
+        .axes
+        .workload_kind
+        .first()
+        .copied()
+        .unwrap_or(WorkloadKind::SYNTHETIC)
+        .kind()?;
+    let unit = kind.unit();
+    match (micros, amount, kind.no_time_levels()) {
+        (Some(_), _, Some(why)) => Err(InputError(format!(
+            "--workload-micros: {why}, so `{}` levels are in {unit}; give --amount N",
+            kind.name()
+        ))),
+        (Some(us), _, None) => Ok(Some(Level::micros(us))),
+        (None, Some(a), _) => {
+            kind.check_amount("--amount", a)?;
+            Ok(Some(Level::in_unit(unit, a as u64)))
+        }
+        (None, None, Some(why)) => match kind.default_amount() {
+            Some(a) => Ok(Some(Level::in_unit(unit, a))),
+            None => Err(InputError(format!(
+                "--amount: {why}, so `{}` needs a level in {unit}; give --amount N",
+                kind.name()
+            ))),
+        },
+        (None, None, None) => Ok(None),
     }
 }

@@ -367,7 +367,7 @@ pub fn all() -> Vec<(&'static str, &'static str, String)> {
         ),
         (
             "default_particles",
-            "the spray pool `run --workload-kind spray` uses without --particles",
+            "the spray pool `run --workload-kind spray` uses without --amount",
             crate::workload::spray::DEFAULT_PARTICLES.to_string(),
         ),
         (

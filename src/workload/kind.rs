@@ -122,6 +122,12 @@ pub trait Kind: Send + Sync + 'static {
         None
     }
 
+    /// The level in its unit that `run` and `balance` start from when none is given, for a kind
+    /// whose levels cannot be given in time (spray: the slides' particle count).
+    fn default_amount(&self) -> Option<u64> {
+        None
+    }
+
     /// Refuses an ocean model or grid it cannot work on.
     fn check_surface(&self, ocean: OceanKind, grid: GridKind) -> Result<(), InputError> {
         let _ = (ocean, grid);
@@ -237,6 +243,8 @@ pub trait DynKind: Send + Sync {
     fn check_amount(&self, field: &str, amount: f64) -> Result<(), InputError>;
     /// See [`Kind::no_time_levels`].
     fn no_time_levels(&self) -> Option<&'static str>;
+    /// See [`Kind::default_amount`].
+    fn default_amount(&self) -> Option<u64>;
     /// See [`Kind::check_surface`].
     fn check_surface(&self, ocean: OceanKind, grid: GridKind) -> Result<(), InputError>;
     /// See [`Kind::is_calibrated_chain`].
@@ -290,6 +298,10 @@ impl<K: Kind> DynKind for K {
 
     fn no_time_levels(&self) -> Option<&'static str> {
         Kind::no_time_levels(self)
+    }
+
+    fn default_amount(&self) -> Option<u64> {
+        Kind::default_amount(self)
     }
 
     fn check_surface(&self, ocean: OceanKind, grid: GridKind) -> Result<(), InputError> {

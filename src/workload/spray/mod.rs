@@ -22,7 +22,7 @@ pub const GRAVITY: f32 = 9.81;
 /// Most particles a pool may hold: its free list counts slots in `u32`.
 pub const MAX_PARTICLES: u64 = u32::MAX as u64;
 
-/// The slides' particle count: the pool `run --workload-kind spray` fills without `--particles`.
+/// The slides' particle count: the pool `run --workload-kind spray` fills without `--amount`.
 pub const DEFAULT_PARTICLES: f64 = 131_072.0;
 
 /// Particles integrated or tested between two looks at the stop flag: tens of microseconds.
@@ -199,6 +199,10 @@ impl Kind for SprayKind {
 
     fn no_time_levels(&self) -> Option<&'static str> {
         Some("spray has no per-particle calibration")
+    }
+
+    fn default_amount(&self) -> Option<u64> {
+        Some(DEFAULT_PARTICLES as u64)
     }
 
     fn check_surface(&self, ocean: OceanKind, grid: GridKind) -> Result<(), InputError> {
