@@ -20,7 +20,7 @@ use std::sync::Arc;
 /// results file (one written by a binary that registered more kinds); configs and flags accept
 /// only registered ones.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct WorkloadKind(&'static str);
+pub struct WorkloadKind(pub(in crate::workload) &'static str);
 
 impl WorkloadKind {
     /// The paper's game work: a chain of integer mixing, before the wait for the mesh.
@@ -28,10 +28,6 @@ impl WorkloadKind {
     /// Transforms the consumed mesh into a vertex buffer, then spends the level as the cost of
     /// submitting the frame.
     pub const RENDER: WorkloadKind = WorkloadKind(super::render::NAME);
-    /// The slides' spray: particles born where the consumed mesh folds.
-    pub const SPRAY: WorkloadKind = WorkloadKind(super::spray::NAME);
-    /// The ocean-fog article's CPU fog: a noise volume rebuilt and blurred each frame.
-    pub const FOG: WorkloadKind = WorkloadKind(super::fog::NAME);
 
     /// The kind called `name`, registered or not (results name kinds other binaries ran).
     pub fn named(name: &str) -> WorkloadKind {

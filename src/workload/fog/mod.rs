@@ -12,7 +12,9 @@ pub mod coefficient;
 pub mod isa;
 pub mod noise;
 
-use super::{whole_amount, Kind, LevelAt, MeshWork, Stopped, Work, WorkOutput, WorkSpec};
+use super::{
+    whole_amount, Kind, LevelAt, MeshWork, Stopped, Work, WorkOutput, WorkSpec, WorkloadKind,
+};
 use crate::input::InputError;
 use crate::machine::available_memory;
 use crate::ocean::Mesh;
@@ -228,6 +230,11 @@ impl FogRecord {
 
 /// The kind's name, and its config key.
 pub(in crate::workload) const NAME: &str = "fog";
+
+impl WorkloadKind {
+    /// The ocean-fog article's CPU fog: a noise volume rebuilt and blurred each frame.
+    pub const FOG: WorkloadKind = WorkloadKind(NAME);
+}
 
 /// The descriptor of the fog workload.
 pub struct FogKind;

@@ -8,7 +8,7 @@ mod pool;
 
 pub use pool::{Pool, Step, Surface, BYTES_PER_PARTICLE};
 
-use super::{Kind, MeshWork, Stopped, Work, WorkCounts, WorkOutput, WorkSpec};
+use super::{Kind, MeshWork, Stopped, Work, WorkCounts, WorkOutput, WorkSpec, WorkloadKind};
 use crate::input::InputError;
 use crate::machine::available_memory;
 use crate::ocean::{Grid, GridKind, Mesh, Model, OceanKind};
@@ -169,6 +169,11 @@ pub fn check_grid(grid: GridKind) -> Result<(), InputError> {
 
 /// The kind's name, and its config key.
 pub(in crate::workload) const NAME: &str = "spray";
+
+impl WorkloadKind {
+    /// The slides' spray: particles born where the consumed mesh folds.
+    pub const SPRAY: WorkloadKind = WorkloadKind(NAME);
+}
 
 /// The descriptor of the spray workload.
 pub struct SprayKind;
