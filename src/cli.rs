@@ -390,7 +390,7 @@ pub struct ReportArgs {
     pub refresh: bool,
     /// With --baseline: a change counts only when its whole 95% interval clears this many
     /// percent.
-    #[arg(long, default_value_t = compare::DEFAULT_THRESHOLD_PCT)]
+    #[arg(long, default_value_t = compare::DEFAULT_THRESHOLD_PCT, allow_negative_numbers = true)]
     pub threshold: f64,
 }
 
@@ -423,7 +423,7 @@ pub struct CompareArgs {
     #[arg(long, requires = "by")]
     pub baseline: Option<String>,
     /// A change counts only when its whole 95% interval clears this many percent.
-    #[arg(long, default_value_t = compare::DEFAULT_THRESHOLD_PCT)]
+    #[arg(long, default_value_t = compare::DEFAULT_THRESHOLD_PCT, allow_negative_numbers = true)]
     pub threshold: f64,
     /// What to compare: FPS (higher is better) or the CPU time per frame spent waiting
     /// (lower is better).

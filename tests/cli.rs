@@ -899,3 +899,19 @@ fn run_takes_a_level_in_the_kinds_own_unit() {
         ("iterations", 1234)
     );
 }
+
+/// An output folder that does not exist and a negative threshold are bad input: one line
+/// naming the flag, exit 2, before anything is read or written.
+#[test]
+fn report_and_compare_refuse_a_missing_out_folder_and_a_negative_threshold() {
+    refuses(
+        &["report", common::FIXTURE, "--out", "/nonexistent/x.html"],
+        &["--out", "/nonexistent", "no folder"],
+    );
+    for command in ["report", "compare"] {
+        refuses(
+            &[command, common::FIXTURE, "--threshold", "-5"],
+            &["--threshold", "finite percentage >= 0", "got -5"],
+        );
+    }
+}

@@ -207,6 +207,23 @@ fn command_line() -> Vec<String> {
         .collect()
 }
 
+/// Refuses an output file `flag` names whose folder does not exist (or is no folder), before
+/// anything is read or written: bad input (exit 2), not a failed run.
+fn check_out_file(flag: &str, path: &Path) -> Result<(), InputError> {
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if folder.is_dir() {
+        Ok(())
+    } else {
+        Err(InputError(format!(
+            "{flag}: {} is no folder; create it first or write elsewhere",
+            folder.display()
+        )))
+    }
+}
+
 /// Refuses a `--threshold` that is not a finite percentage >= 0.
 fn check_threshold(threshold: f64) -> Result<(), InputError> {
     if threshold.is_finite() && threshold >= 0.0 {

@@ -1,7 +1,7 @@
 //! `oceanbench report`: one self-contained HTML page of a run, optionally compared with a
 //! baseline run.
 
-use super::{check_threshold, load_results, results_dir, CliError};
+use super::{check_out_file, check_threshold, load_results, results_dir, CliError};
 use crate::cli::ReportArgs;
 use crate::config::InputError;
 use crate::report::compare::{self, Metric};
@@ -12,6 +12,9 @@ use std::path::{Path, PathBuf};
 
 pub(super) fn report(args: ReportArgs) -> Result<(), CliError> {
     check_threshold(args.threshold)?;
+    if let Some(out) = &args.out {
+        check_out_file("--out", out)?;
+    }
     let results = load_results(&args.results)?;
     let comparison = match &args.baseline {
         Some(path) => {
