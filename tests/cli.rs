@@ -915,3 +915,45 @@ fn report_and_compare_refuse_a_missing_out_folder_and_a_negative_threshold() {
         );
     }
 }
+
+/// `run --grid projected` and `run --helpers 2` name no normals: they run with the first
+/// method their cells can use, and say so, rather than refuse the default nobody gave.
+#[test]
+fn run_fits_the_normals_nobody_gave_to_the_cells_asked_for() {
+    for (flag, value) in [("--grid", "projected"), ("--helpers", "2")] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("fit");
+        let run = oceanbench(&[
+            "run",
+            flag,
+            value,
+            "--size",
+            "16",
+            "--frames",
+            "3",
+            "--seconds",
+            "0",
+            "--trials",
+            "1",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_success(&run);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(
+            stderr.contains("--normals analytic: the default (neighbors) cannot run these cells"),
+            "{flag}: {stderr}"
+        );
+        let results = Results::load(&out).unwrap();
+        assert_eq!(
+            results.cells[0].key.normals,
+            NormalMethod::Analytic,
+            "{flag}"
+        );
+    }
+    // Given normals are kept, and refused when the cells cannot use them.
+    refuses(
+        &["run", "--grid", "projected", "--normals", "neighbors"],
+        &["neighbors"],
+    );
+}

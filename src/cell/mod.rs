@@ -349,6 +349,15 @@ impl Axes {
             .collect()
     }
 
+    /// Why the first of the crossed cells that cannot run is refused (a combination or a
+    /// value), if one cannot.
+    pub fn refusal(&self) -> Option<InputError> {
+        self.product()
+            .iter()
+            .find_map(|k| k.runnable().check().err())
+            .map(rules::Refusal::error)
+    }
+
     /// Refuses lists with a value no runnable cell has, giving the reason the cells with it
     /// cannot run (`policy: [latest]` with only `fifo` methods, say): a listed value that
     /// silently vanished from the sweep would be a figure missing without a word.

@@ -5,6 +5,7 @@ use crate::cell::{Axes, Dim};
 use crate::cli::{DimArgs, RunArgs};
 use crate::config::{InputError, Level, SweepConfig};
 use crate::frame_loop::Mode;
+use crate::ocean::NormalMethod;
 use crate::report;
 use crate::results::Results;
 use crate::sweep::Sweep;
@@ -48,8 +49,43 @@ fn ignored_flags(cell: &DimArgs, axes: &Axes) -> Vec<String> {
         .collect()
 }
 
+/// Normals the flags left out take the default's, unless a cell the flags ask for cannot run
+/// with them: then the first method every cell can run, analytic first (the cheapest, and the
+/// one the projected grid and split rows need), and the note that says so. `run --grid
+/// projected` and `run --helpers 2` so run rather than refuse a value nobody gave.
+fn fit_normals(axes: &mut Axes, cell: &DimArgs) -> Option<String> {
+    if cell.get(Dim::Normals).is_some() {
+        return None;
+    }
+    let why = axes.refusal()?;
+    let default = axes.normals.clone();
+    for normals in [
+        NormalMethod::Analytic,
+        NormalMethod::Neighbors,
+        NormalMethod::Lookup,
+    ] {
+        axes.normals = vec![normals];
+        if axes.refusal().is_none() {
+            return Some(format!(
+                "--normals {normals}: the default ({}) cannot run these cells ({why})",
+                default
+                    .iter()
+                    .map(|n| n.name())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+    }
+    axes.normals = default;
+    None
+}
+
 pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
-    let ignored = ignored_flags(&args.cell, &axes(&args.cell));
+    let mut cells = axes(&args.cell);
+    if let Some(note) = fit_normals(&mut cells, &args.cell) {
+        eprintln!("oceanbench: {note}");
+    }
+    let ignored = ignored_flags(&args.cell, &cells);
     if !ignored.is_empty() {
         eprintln!(
             "oceanbench: {} ignored: `--mode serial` runs everything on one thread, with no hand-off",
@@ -58,7 +94,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
     }
     let mut config = SweepConfig {
         name: "run".into(),
-        axes: axes(&args.cell),
+        axes: cells,
         trials: args.trials,
         min_frames: args.frames,
         min_seconds: args.seconds,
