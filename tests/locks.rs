@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{assert_one_line_exit_2, command_locked};
+use common::{assert_one_line_exit_2, assert_success, command_locked};
 use oceanbench::doctor::{Report, Severity};
 use oceanbench::results::Results;
 use std::path::Path;
@@ -139,7 +139,7 @@ fn a_second_run_into_a_folder_in_use_is_refused_and_the_first_completes() {
     assert_refused(&second, first.id(), &["--out", &out_arg]);
 
     let first = finish(first);
-    assert!(first.status.success(), "{}", stderr(&first));
+    assert_success(&first);
     let results = Results::load(&out.join("results.json")).unwrap();
     assert!(results.finished.is_some());
     assert_eq!(results.cells.len(), 1);
@@ -169,7 +169,7 @@ fn a_run_on_cores_in_use_is_refused_with_no_wait_and_doctor_names_the_holder() {
         &locks,
         &["doctor", "--cores", "0,1", "--seconds", "0.1", "--json"],
     ));
-    assert!(doctor.status.success(), "{}", stderr(&doctor));
+    assert_success(&doctor);
     let report: Report = serde_json::from_slice(&doctor.stdout).unwrap();
     let held: Vec<_> = report
         .findings
@@ -183,7 +183,7 @@ fn a_run_on_cores_in_use_is_refused_with_no_wait_and_doctor_names_the_holder() {
     }
 
     let first = finish(first);
-    assert!(first.status.success(), "{}", stderr(&first));
+    assert_success(&first);
     assert!(lock_files(&locks).is_empty(), "{:?}", lock_files(&locks));
 }
 
@@ -197,13 +197,13 @@ fn a_run_on_cores_in_use_waits_for_them_saying_so_once() {
 
     let second = output(&mut command_locked(&locks, SHORT_RUN));
     let err = stderr(&second);
-    assert!(second.status.success(), "{err}");
+    assert_success(&second);
     let waits: Vec<&str> = err.lines().filter(|l| l.contains("waiting")).collect();
     assert_eq!(waits.len(), 1, "{err}");
     assert!(waits[0].contains(&format!("pid {pid}:")), "{err}");
 
     let first = finish(first);
-    assert!(first.status.success(), "{}", stderr(&first));
+    assert_success(&first);
     let doctor = output(&mut command_locked(
         &locks,
         &["doctor", "--cores", "0,1", "--seconds", "0.1", "--json"],
@@ -266,7 +266,7 @@ fn resume_and_balance_take_the_folder_lock_too() {
         &locks,
         &strs(&with(SHORT_RUN, &["--out", &out_arg])),
     ));
-    assert!(written.status.success(), "{}", stderr(&written));
+    assert_success(&written);
 
     // This test process is the holder: a second process must see the lock whoever took it.
     let held = oceanbench::lock::out_dir(&out).unwrap();
