@@ -285,86 +285,31 @@ mod tests {
 
     #[test]
     fn every_field_out_of_range_is_named() {
-        let bad = [
-            (
-                "pitch_degrees",
-                Camera {
-                    pitch_degrees: 0.0,
-                    ..Camera::default()
-                },
-            ),
-            (
-                "pitch_degrees",
-                Camera {
-                    pitch_degrees: 91.0,
-                    ..Camera::default()
-                },
-            ),
-            (
-                "fov_degrees",
-                Camera {
-                    fov_degrees: f32::NAN,
-                    ..Camera::default()
-                },
-            ),
-            (
-                "fov_degrees",
-                Camera {
-                    fov_degrees: 180.0,
-                    ..Camera::default()
-                },
-            ),
-            (
-                "aspect",
-                Camera {
-                    aspect: 0.0,
-                    ..Camera::default()
-                },
-            ),
-            (
-                "height",
-                Camera {
-                    height: Some(-1.0),
-                    ..Camera::default()
-                },
-            ),
-            (
-                "height",
-                Camera {
-                    height: Some(f32::INFINITY),
-                    ..Camera::default()
-                },
-            ),
+        fn path(radius: f32, period_seconds: f32) -> Option<CameraPath> {
+            Some(CameraPath {
+                radius,
+                period_seconds,
+            })
+        }
+        /// The field named, and how the case sets it out of range in the default camera.
+        type Case = (&'static str, fn(&mut Camera));
+        let bad: [Case; 10] = [
+            ("pitch_degrees", |c| c.pitch_degrees = 0.0),
+            ("pitch_degrees", |c| c.pitch_degrees = 91.0),
+            ("fov_degrees", |c| c.fov_degrees = f32::NAN),
+            ("fov_degrees", |c| c.fov_degrees = 180.0),
+            ("aspect", |c| c.aspect = 0.0),
+            ("height", |c| c.height = Some(-1.0)),
+            ("height", |c| c.height = Some(f32::INFINITY)),
+            ("far", |c| c.far = Some(0.0)),
+            ("path.radius", |c| c.path = path(-1.0, 1.0)),
+            ("path.period_seconds", |c| c.path = path(1.0, f32::NAN)),
         ];
-        let bad = bad.into_iter().chain([
-            (
-                "far",
-                Camera {
-                    far: Some(0.0),
-                    ..Camera::default()
-                },
-            ),
-            (
-                "path.radius",
-                Camera {
-                    path: Some(CameraPath {
-                        radius: -1.0,
-                        period_seconds: 1.0,
-                    }),
-                    ..Camera::default()
-                },
-            ),
-            (
-                "path.period_seconds",
-                Camera {
-                    path: Some(CameraPath {
-                        radius: 1.0,
-                        period_seconds: f32::NAN,
-                    }),
-                    ..Camera::default()
-                },
-            ),
-        ]);
+        let bad = bad.map(|(field, set)| {
+            let mut c = Camera::default();
+            set(&mut c);
+            (field, c)
+        });
         for (field, c) in bad {
             let e = c.validate().unwrap_err().0;
             assert!(e.starts_with(&format!("camera.{field}: must be")), "{e}");

@@ -171,6 +171,11 @@ fn finding(check: &str, severity: Severity, finding: String, fix: Option<&str>) 
     }
 }
 
+/// A check that found nothing to fix: every OK finding goes without a fix.
+fn ok(check: &str, text: String) -> Finding {
+    finding(check, Severity::Ok, text, None)
+}
+
 fn governor(r: &mut Reader, cores: &[usize]) -> Vec<Finding> {
     let mut out = Vec::new();
     for &c in cores {
@@ -185,7 +190,7 @@ fn governor(r: &mut Reader, cores: &[usize]) -> Vec<Finding> {
             continue;
         };
         out.push(if gov == "performance" {
-            finding("governor", Severity::Ok, format!("core {c}: performance"), None)
+            ok("governor", format!("core {c}: performance"))
         } else {
             finding(
                 "governor",
@@ -217,7 +222,7 @@ fn boost(r: &mut Reader) -> Option<Finding> {
             Some("echo 1 | sudo tee /sys/devices/system/cpu/intel_pstate/no_turbo (or echo 0 to cpufreq/boost)"),
         )
     } else {
-        finding("boost", Severity::Ok, "turbo boost is off".into(), None)
+        ok("boost", "turbo boost is off".into())
     })
 }
 
@@ -279,12 +284,7 @@ fn smt(r: &mut Reader, cores: &[usize]) -> Vec<Finding> {
         }
     }
     if out.is_empty() && !siblings.is_empty() {
-        out.push(finding(
-            "smt",
-            Severity::Ok,
-            "no chosen core shares a physical core".into(),
-            None,
-        ));
+        out.push(ok("smt", "no chosen core shares a physical core".into()));
     }
     out
 }
@@ -354,11 +354,9 @@ fn isolation(r: &mut Reader, cores: &[usize]) -> Finding {
         } else {
             ""
         };
-        finding(
+        ok(
             "isolation",
-            Severity::Ok,
             format!("cores {} are isolated{tick}", affinity::list(cores)),
-            None,
         )
     } else {
         finding(
@@ -387,12 +385,7 @@ fn virtualization(r: &mut Reader) -> Finding {
             Some("compare within one run (compare --by), and prefer a VM with dedicated cores"),
         )
     } else {
-        finding(
-            "virtualization",
-            Severity::Ok,
-            "no hypervisor flag".into(),
-            None,
-        )
+        ok("virtualization", "no hypervisor flag".into())
     }
 }
 
@@ -400,11 +393,9 @@ fn power(r: &mut Reader) -> Finding {
     let dir = Path::new("/sys/class/power_supply");
     let Ok(entries) = std::fs::read_dir(dir) else {
         r.missing.push(dir.display().to_string());
-        return finding(
+        return ok(
             "power",
-            Severity::Ok,
             "no power supply information (a desktop or a VM)".into(),
-            None,
         );
     };
     let on_battery = entries.flatten().any(|e| {
@@ -420,7 +411,7 @@ fn power(r: &mut Reader) -> Finding {
             Some("plug the laptop in"),
         )
     } else {
-        finding("power", Severity::Ok, "on mains power".into(), None)
+        ok("power", "on mains power".into())
     }
 }
 
@@ -447,18 +438,13 @@ fn irqbalance() -> Finding {
             Some("sudo systemctl stop irqbalance, or list the measured cores in IRQBALANCE_BANNED_CPUS"),
         )
     } else {
-        finding("irqbalance", Severity::Ok, "not running".into(), None)
+        ok("irqbalance", "not running".into())
     }
 }
 
 fn transparent_hugepages(r: &mut Reader) -> Finding {
     let Some(text) = r.read("/sys/kernel/mm/transparent_hugepage/enabled") else {
-        return finding(
-            "hugepages",
-            Severity::Ok,
-            "no transparent huge pages setting".into(),
-            None,
-        );
+        return ok("hugepages", "no transparent huge pages setting".into());
     };
     if text.contains("[always]") {
         finding(
@@ -468,12 +454,7 @@ fn transparent_hugepages(r: &mut Reader) -> Finding {
             Some("echo madvise | sudo tee /sys/kernel/mm/transparent_hugepage/enabled"),
         )
     } else {
-        finding(
-            "hugepages",
-            Severity::Ok,
-            "transparent huge pages only on request".into(),
-            None,
-        )
+        ok("hugepages", "transparent huge pages only on request".into())
     }
 }
 
@@ -562,12 +543,7 @@ fn sampled(r: &mut Reader, cores: &[usize], window: Duration) -> Vec<Finding> {
                     Some("the host is busy: re-run later, use --retry-noisy, or a VM with dedicated cores"),
                 )
             } else {
-                finding(
-                    "steal",
-                    Severity::Ok,
-                    format!("core {c}: {steal:.1}% stolen over {seconds:.0} s"),
-                    None,
-                )
+                ok("steal", format!("core {c}: {steal:.1}% stolen over {seconds:.0} s"))
             });
             out.push(if busy > 10.0 {
                 finding(
@@ -577,12 +553,7 @@ fn sampled(r: &mut Reader, cores: &[usize], window: Duration) -> Vec<Finding> {
                     Some("stop what runs there, or choose idle cores with --cores"),
                 )
             } else {
-                finding(
-                    "load",
-                    Severity::Ok,
-                    format!("core {c}: {busy:.0}% busy over {seconds:.0} s"),
-                    None,
-                )
+                ok("load", format!("core {c}: {busy:.0}% busy over {seconds:.0} s"))
             });
         }
     }
@@ -632,11 +603,9 @@ fn busy_threads(
         .collect();
     busy.sort_by(|a, b| b.0.total_cmp(&a.0));
     if busy.is_empty() {
-        return vec![finding(
+        return vec![ok(
             "threads",
-            Severity::Ok,
             "no other thread used 5% of a chosen core".into(),
-            None,
         )];
     }
     let list: Vec<String> = busy
@@ -663,11 +632,9 @@ fn core_locks(cores: &[usize]) -> Vec<Finding> {
                 format!("core {c} is being measured on by another oceanbench run ({holder})"),
                 Some("wait for that run to finish, or choose other cores with --cores"),
             ),
-            None => finding(
+            None => ok(
                 "locks",
-                Severity::Ok,
                 format!("no other oceanbench run is measuring on core {c}"),
-                None,
             ),
         })
         .collect()
@@ -684,7 +651,7 @@ fn pinning(cores: &[usize]) -> Vec<Finding> {
                     held: false,
                 });
             if pin.held {
-                finding("pinning", Severity::Ok, format!("a thread pinned to core {c} stays there"), None)
+                ok("pinning", format!("a thread pinned to core {c} stays there"))
             } else {
                 finding(
                     "pinning",

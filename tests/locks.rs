@@ -5,20 +5,12 @@
 
 mod common;
 
+use common::{assert_one_line_exit_2, assert_success, command_locked};
 use oceanbench::doctor::{Report, Severity};
 use oceanbench::results::Results;
 use std::path::Path;
-use std::process::{Child, Command, Output, Stdio};
+use std::process::{Child, Command, Output};
 use std::time::{Duration, Instant};
-
-/// The binary, with the per-core locks under `lock_dir`.
-fn oceanbench(lock_dir: &Path, args: &[&str]) -> Command {
-    let mut cmd = common::command(args);
-    cmd.env("OCEANBENCH_LOCK_DIR", lock_dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    cmd
-}
 
 /// A run on cores 0 and 1 that measures for a few seconds: long enough for a second process to
 /// start while it holds its locks.
@@ -110,16 +102,11 @@ fn stderr(out: &Output) -> String {
 
 /// Asserts exit 2 with one stderr line naming `pid` and every needle.
 fn assert_refused(out: &Output, pid: u32, needles: &[&str]) {
-    let err = stderr(out);
-    assert_eq!(out.status.code(), Some(2), "{err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    let err = assert_one_line_exit_2(out, needles);
     assert!(
         err.contains(&format!("pid {pid}:")),
         "{err:?} names no holder"
     );
-    for needle in needles {
-        assert!(err.contains(needle), "{err:?} lacks {needle:?}");
-    }
 }
 
 fn lock_files(dir: &Path) -> Vec<String> {
@@ -139,20 +126,20 @@ fn a_second_run_into_a_folder_in_use_is_refused_and_the_first_completes() {
     let out = tmp.path().join("out");
     let out_arg = out.to_string_lossy().into_owned();
     let (first_locks, second_locks) = (tmp.path().join("locks-1"), tmp.path().join("locks-2"));
-    let mut first = oceanbench(&first_locks, &strs(&with(LONG_RUN, &["--out", &out_arg])))
+    let mut first = command_locked(&first_locks, &strs(&with(LONG_RUN, &["--out", &out_arg])))
         .spawn()
         .unwrap();
     wait_for_holder(&mut first, &out.join(".oceanbench.lock"));
 
     // Its own core locks: only the folder's lock can stop it.
-    let second = output(&mut oceanbench(
+    let second = output(&mut command_locked(
         &second_locks,
         &strs(&with(SHORT_RUN, &["--out", &out_arg])),
     ));
     assert_refused(&second, first.id(), &["--out", &out_arg]);
 
     let first = finish(first);
-    assert!(first.status.success(), "{}", stderr(&first));
+    assert_success(&first);
     let results = Results::load(&out.join("results.json")).unwrap();
     assert!(results.finished.is_some());
     assert_eq!(results.cells.len(), 1);
@@ -169,20 +156,20 @@ fn a_second_run_into_a_folder_in_use_is_refused_and_the_first_completes() {
 fn a_run_on_cores_in_use_is_refused_with_no_wait_and_doctor_names_the_holder() {
     let tmp = tempfile::tempdir().unwrap();
     let locks = tmp.path().join("locks");
-    let mut first = oceanbench(&locks, LONG_RUN).spawn().unwrap();
+    let mut first = command_locked(&locks, LONG_RUN).spawn().unwrap();
     wait_for_holder(&mut first, &locks.join("core-1.lock"));
 
-    let second = output(&mut oceanbench(
+    let second = output(&mut command_locked(
         &locks,
         &strs(&with(SHORT_RUN, &["--no-wait"])),
     ));
     assert_refused(&second, first.id(), &["--no-wait", "core"]);
 
-    let doctor = output(&mut oceanbench(
+    let doctor = output(&mut command_locked(
         &locks,
         &["doctor", "--cores", "0,1", "--seconds", "0.1", "--json"],
     ));
-    assert!(doctor.status.success(), "{}", stderr(&doctor));
+    assert_success(&doctor);
     let report: Report = serde_json::from_slice(&doctor.stdout).unwrap();
     let held: Vec<_> = report
         .findings
@@ -196,7 +183,7 @@ fn a_run_on_cores_in_use_is_refused_with_no_wait_and_doctor_names_the_holder() {
     }
 
     let first = finish(first);
-    assert!(first.status.success(), "{}", stderr(&first));
+    assert_success(&first);
     assert!(lock_files(&locks).is_empty(), "{:?}", lock_files(&locks));
 }
 
@@ -204,20 +191,20 @@ fn a_run_on_cores_in_use_is_refused_with_no_wait_and_doctor_names_the_holder() {
 fn a_run_on_cores_in_use_waits_for_them_saying_so_once() {
     let tmp = tempfile::tempdir().unwrap();
     let locks = tmp.path().join("locks");
-    let mut first = oceanbench(&locks, LONG_RUN).spawn().unwrap();
+    let mut first = command_locked(&locks, LONG_RUN).spawn().unwrap();
     wait_for_holder(&mut first, &locks.join("core-0.lock"));
     let pid = first.id();
 
-    let second = output(&mut oceanbench(&locks, SHORT_RUN));
+    let second = output(&mut command_locked(&locks, SHORT_RUN));
     let err = stderr(&second);
-    assert!(second.status.success(), "{err}");
+    assert_success(&second);
     let waits: Vec<&str> = err.lines().filter(|l| l.contains("waiting")).collect();
     assert_eq!(waits.len(), 1, "{err}");
     assert!(waits[0].contains(&format!("pid {pid}:")), "{err}");
 
     let first = finish(first);
-    assert!(first.status.success(), "{}", stderr(&first));
-    let doctor = output(&mut oceanbench(
+    assert_success(&first);
+    let doctor = output(&mut command_locked(
         &locks,
         &["doctor", "--cores", "0,1", "--seconds", "0.1", "--json"],
     ));
@@ -236,7 +223,7 @@ fn a_failed_write_leaves_no_temporary_file() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
     let out_arg = out.to_string_lossy().into_owned();
-    let mut cmd = oceanbench(
+    let mut cmd = command_locked(
         &tmp.path().join("locks"),
         &strs(&with(SHORT_RUN, &["--out", &out_arg])),
     );
@@ -275,20 +262,20 @@ fn resume_and_balance_take_the_folder_lock_too() {
     let locks = tmp.path().join("locks");
     let out = tmp.path().join("out");
     let out_arg = out.to_string_lossy().into_owned();
-    let written = output(&mut oceanbench(
+    let written = output(&mut command_locked(
         &locks,
         &strs(&with(SHORT_RUN, &["--out", &out_arg])),
     ));
-    assert!(written.status.success(), "{}", stderr(&written));
+    assert_success(&written);
 
     // This test process is the holder: a second process must see the lock whoever took it.
     let held = oceanbench::lock::out_dir(&out).unwrap();
-    let resume = output(&mut oceanbench(
+    let resume = output(&mut command_locked(
         &locks,
         &["sweep", "--resume", &out_arg, "--no-wait"],
     ));
     assert_refused(&resume, std::process::id(), &["--resume", &out_arg]);
-    let balance = output(&mut oceanbench(
+    let balance = output(&mut command_locked(
         &locks,
         &["balance", "--size", "8", "--out", &out_arg],
     ));

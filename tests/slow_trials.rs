@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::assert_one_line_exit_2;
+use common::{assert_one_line_exit_2, oceanbench_locked};
 use oceanbench::affinity;
 use oceanbench::cell::Axes;
 use oceanbench::config::{Level, SweepConfig};
@@ -204,30 +204,28 @@ fn compare_marks_a_verdict_resting_on_an_unexplained_slow_trial() {
     assert_eq!(noisy, [label.as_str()]);
 }
 
-fn oceanbench(args: &[&str]) -> std::process::Output {
-    common::command(args)
-        .env(
-            "OCEANBENCH_LOCK_DIR",
-            std::env::temp_dir().join("oceanbench-test-slow"),
-        )
-        .output()
-        .expect("the binary runs")
-}
-
 #[test]
 fn a_threshold_outside_0_to_100_is_refused_and_ignored_flags_are_said_once() {
+    // Its runs take cores: its own lock folder keeps it from waiting on other tests' locks.
+    let locks = std::env::temp_dir().join("oceanbench-test-slow");
     for bad in ["0", "100", "-5"] {
         let flag = format!("--slow-trial-percent={bad}");
-        assert_one_line_exit_2(&oceanbench(&["run", &flag]), &["slow_trial_percent"]);
+        assert_one_line_exit_2(
+            &oceanbench_locked(&locks, &["run", &flag]),
+            &["slow_trial_percent"],
+        );
     }
     let err = SweepConfig::from_json(r#"{"slow_trial_percent": 250}"#)
         .unwrap_err()
         .to_string();
     assert!(err.contains("slow_trial_percent: must be above 0"), "{err}");
-    let out = oceanbench(&[
-        "run", "--mode", "serial", "--sync", "condvar", "--depth", "2", "--size", "8", "--frames",
-        "5", "--trials", "1",
-    ]);
+    let out = oceanbench_locked(
+        &locks,
+        &[
+            "run", "--mode", "serial", "--sync", "condvar", "--depth", "2", "--size", "8",
+            "--frames", "5", "--trials", "1",
+        ],
+    );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(0), "{stderr}");
     let said: Vec<&str> = stderr.lines().filter(|l| l.contains("ignored")).collect();

@@ -10,7 +10,7 @@
 use super::consume;
 use super::frames::FrameCounter;
 use super::pool::{drive, Helpers, Stop};
-use super::slots::{ns, timed};
+use super::slots::{main_record, ns, timed};
 use super::{Budget, LoopError, LoopSpec, Measured};
 use crate::measure::FrameRecord;
 use crate::ocean::{Mesh, Stepper};
@@ -150,18 +150,12 @@ fn consume<F: FnMut(u64, &Mesh)>(
         .load(Ordering::Acquire)
         .saturating_sub(index + 1);
     Ok(FrameRecord {
-        total_ns: ns(t3 - t0),
-        workload_ns: ns(t1 - t0 + on_mesh),
-        wait_ns: ns(t2 - t1),
-        wait_cpu_ns: waited.cpu_ns,
-        copy_ns: ns(t3 - t2 - on_mesh),
         step_ns: frame.step_ns,
-        age_frames: ahead.min(u64::from(u32::MAX)) as u32,
         age_ns: ns(t2.saturating_duration_since(frame.published)),
         latency_ns: ns(t2.saturating_duration_since(frame.started)),
         mesh_frame: index,
         work_counts: work.output().counts(),
-        ..FrameRecord::default()
+        ..main_record([t0, t1, t2, t3], on_mesh, waited, ahead)
     })
 }
 

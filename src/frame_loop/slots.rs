@@ -343,21 +343,38 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
         )));
     }
     Ok(FrameRecord {
-        total_ns: ns(t3 - t0),
-        workload_ns: ns(t1 - t0 + on_mesh),
-        wait_ns: ns(t2 - t1),
-        wait_cpu_ns: main_waited.cpu_ns,
-        copy_ns: ns(t3 - t2 - on_mesh),
         step_ns,
         helper_wait_ns: helpers_waited.ns,
         helper_wait_cpu_ns: helpers_waited.cpu_ns,
         other_ns: 0,
-        age_frames: ahead.min(u64::from(u32::MAX)) as u32,
         age_ns: published.map_or(0, |p| ns(t2.saturating_duration_since(p))),
         latency_ns: ns(t2.saturating_duration_since(started)),
         mesh_frame: k,
         work_counts: work.output().counts(),
+        ..main_record([t0, t1, t2, t3], on_mesh, main_waited, ahead)
     })
+}
+
+/// The main thread's times in a threaded frame's record, one definition for every threaded
+/// loop so that their frames divide alike: the frame ran from `t0` to `t3`, its work before the
+/// wait ended at `t1`, the wait (`waited`) ended at `t2` with the mesh in hand; the work that
+/// read the mesh (`on_mesh`, after `t2`) counts as workload, not as consumption. `ahead`: frames
+/// the helper had finished beyond the consumed one.
+pub(super) fn main_record(
+    [t0, t1, t2, t3]: [Instant; 4],
+    on_mesh: Duration,
+    waited: Waited,
+    ahead: u64,
+) -> FrameRecord {
+    FrameRecord {
+        total_ns: ns(t3 - t0),
+        workload_ns: ns(t1 - t0 + on_mesh),
+        wait_ns: ns(t2 - t1),
+        wait_cpu_ns: waited.cpu_ns,
+        copy_ns: ns(t3 - t2 - on_mesh),
+        age_frames: ahead.min(u64::from(u32::MAX)) as u32,
+        ..FrameRecord::default()
+    }
 }
 
 /// The longest a wait goes without looking at the stop flag.

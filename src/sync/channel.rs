@@ -23,24 +23,39 @@ pub trait Pipe: Send + Sync + 'static {
     fn take(&self, deadline: Instant) -> Result<u64, TimedOut>;
 }
 
-/// crossbeam-channel's bounded channel.
-pub struct Crossbeam(
-    crossbeam_channel::Sender<u64>,
-    crossbeam_channel::Receiver<u64>,
+/// A [`Pipe`] over a crate's bounded channel with `try_send` and `recv_deadline`: crossbeam's
+/// and flume's have the same API under their own names.
+macro_rules! deadline_pipe {
+    ($(#[$doc:meta])* $name:ident, $channel:ident) => {
+        $(#[$doc])*
+        pub struct $name($channel::Sender<u64>, $channel::Receiver<u64>);
+
+        impl Pipe for $name {
+            fn bounded(capacity: usize) -> Self {
+                let (s, r) = $channel::bounded(capacity);
+                $name(s, r)
+            }
+            fn put(&self, token: u64) -> bool {
+                self.0.try_send(token).is_ok()
+            }
+            fn take(&self, deadline: Instant) -> Result<u64, TimedOut> {
+                self.1.recv_deadline(deadline).map_err(|_| TimedOut)
+            }
+        }
+    };
+}
+
+deadline_pipe!(
+    /// crossbeam-channel's bounded channel.
+    Crossbeam,
+    crossbeam_channel
 );
 
-impl Pipe for Crossbeam {
-    fn bounded(capacity: usize) -> Self {
-        let (s, r) = crossbeam_channel::bounded(capacity);
-        Crossbeam(s, r)
-    }
-    fn put(&self, token: u64) -> bool {
-        self.0.try_send(token).is_ok()
-    }
-    fn take(&self, deadline: Instant) -> Result<u64, TimedOut> {
-        self.1.recv_deadline(deadline).map_err(|_| TimedOut)
-    }
-}
+deadline_pipe!(
+    /// flume's bounded channel.
+    Flume,
+    flume
+);
 
 /// std's `sync_channel`. Its receiver is not `Sync`, so it sits behind a lock only the
 /// receiving side ever takes (uncontended: a few nanoseconds).
@@ -61,22 +76,6 @@ impl Pipe for StdChannel {
         // `recv_deadline` is unstable in std; the timeout is the same wait.
         let left = deadline.saturating_duration_since(Instant::now());
         self.1.lock().recv_timeout(left).map_err(|_| TimedOut)
-    }
-}
-
-/// flume's bounded channel.
-pub struct Flume(flume::Sender<u64>, flume::Receiver<u64>);
-
-impl Pipe for Flume {
-    fn bounded(capacity: usize) -> Self {
-        let (s, r) = flume::bounded(capacity);
-        Flume(s, r)
-    }
-    fn put(&self, token: u64) -> bool {
-        self.0.try_send(token).is_ok()
-    }
-    fn take(&self, deadline: Instant) -> Result<u64, TimedOut> {
-        self.1.recv_deadline(deadline).map_err(|_| TimedOut)
     }
 }
 

@@ -1,7 +1,8 @@
 //! `atomic` and `spin`: the ring's counters in atomics, waiters polling them.
 
-use super::primitives::{spin_loop, yield_now, AtomicBool, AtomicU64, Ordering};
-use super::{Free, Handoff, Ring, TimedOut};
+use super::primitives::{spin_loop, yield_now};
+use super::ring::AtomicCounters;
+use super::{Free, Handoff, TimedOut};
 use std::marker::PhantomData;
 use std::time::Instant;
 
@@ -49,12 +50,7 @@ pub fn poll<T, R: Relax>(
 /// The ring's counters in one cache line, each written by one side only and read by the
 /// other with acquire/release; waiters poll them.
 pub struct AtomicRing<R: Relax> {
-    /// Frames released, written by the main thread.
-    head: AtomicU64,
-    /// Frames published, written by the helper.
-    tail: AtomicU64,
-    shutdown: AtomicBool,
-    depth: u64,
+    counters: AtomicCounters,
     relax: PhantomData<R>,
 }
 
@@ -62,10 +58,7 @@ impl<R: Relax> AtomicRing<R> {
     /// A ring of `depth` free slots.
     pub fn new(depth: u64) -> Self {
         AtomicRing {
-            head: AtomicU64::new(0),
-            tail: AtomicU64::new(0),
-            shutdown: AtomicBool::new(false),
-            depth,
+            counters: AtomicCounters::new(depth),
             relax: PhantomData,
         }
     }
@@ -73,37 +66,26 @@ impl<R: Relax> AtomicRing<R> {
 
 impl<R: Relax> Handoff for AtomicRing<R> {
     fn wait_free(&self, deadline: Instant) -> Result<Free, TimedOut> {
-        // Only the helper writes the tail, so its own relaxed read is current.
-        let tail = self.tail.load(Ordering::Relaxed);
-        poll::<_, R>(deadline, || {
-            Ring {
-                head: self.head.load(Ordering::Acquire),
-                tail,
-                shutdown: self.shutdown.load(Ordering::Acquire),
-            }
-            .free(self.depth)
-        })
+        poll::<_, R>(deadline, self.counters.free())
     }
 
     fn publish(&self) {
-        self.tail.fetch_add(1, Ordering::Release);
+        self.counters.publish();
     }
 
     fn wait_published(&self, frame: u64, deadline: Instant) -> Result<(), TimedOut> {
-        poll::<_, R>(deadline, || {
-            (self.tail.load(Ordering::Acquire) > frame).then_some(())
-        })
+        poll::<_, R>(deadline, self.counters.filled(frame))
     }
 
     fn release(&self) {
-        self.head.fetch_add(1, Ordering::Release);
+        self.counters.release();
     }
 
     fn shutdown(&self) {
-        self.shutdown.store(true, Ordering::Release);
+        self.counters.shutdown();
     }
 
     fn published(&self) -> u64 {
-        self.tail.load(Ordering::Acquire)
+        self.counters.published()
     }
 }

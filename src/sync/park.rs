@@ -7,34 +7,28 @@
 //! So a wake-up is never lost. Registration is per wait, since under `spawn` every frame has a
 //! new helper thread.
 
-use super::{Free, Handoff, Ring, TimedOut};
+use super::ring::AtomicCounters;
+use super::{Free, Handoff, TimedOut};
 use parking_lot::Mutex;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::thread::Thread;
 use std::time::Instant;
 
 /// The ring's counters and the two sides' parked threads.
 pub struct ParkRing {
-    head: AtomicU64,
-    tail: AtomicU64,
-    shutdown: AtomicBool,
+    counters: AtomicCounters,
     /// The helper, while it waits for a free slot.
     helper: Mutex<Option<Thread>>,
     /// The main thread, while it waits for a frame.
     main: Mutex<Option<Thread>>,
-    depth: u64,
 }
 
 impl ParkRing {
     /// A ring of `depth` free slots.
     pub fn new(depth: u64) -> Self {
         ParkRing {
-            head: AtomicU64::new(0),
-            tail: AtomicU64::new(0),
-            shutdown: AtomicBool::new(false),
+            counters: AtomicCounters::new(depth),
             helper: Mutex::new(None),
             main: Mutex::new(None),
-            depth,
         }
     }
 }
@@ -66,39 +60,29 @@ fn wake(other: &Mutex<Option<Thread>>) {
 
 impl Handoff for ParkRing {
     fn wait_free(&self, deadline: Instant) -> Result<Free, TimedOut> {
-        let tail = self.tail.load(Ordering::Relaxed);
-        wait(&self.helper, deadline, || {
-            Ring {
-                head: self.head.load(Ordering::Acquire),
-                tail,
-                shutdown: self.shutdown.load(Ordering::Acquire),
-            }
-            .free(self.depth)
-        })
+        wait(&self.helper, deadline, self.counters.free())
     }
 
     fn publish(&self) {
-        self.tail.fetch_add(1, Ordering::Release);
+        self.counters.publish();
         wake(&self.main);
     }
 
     fn wait_published(&self, frame: u64, deadline: Instant) -> Result<(), TimedOut> {
-        wait(&self.main, deadline, || {
-            (self.tail.load(Ordering::Acquire) > frame).then_some(())
-        })
+        wait(&self.main, deadline, self.counters.filled(frame))
     }
 
     fn release(&self) {
-        self.head.fetch_add(1, Ordering::Release);
+        self.counters.release();
         wake(&self.helper);
     }
 
     fn shutdown(&self) {
-        self.shutdown.store(true, Ordering::Release);
+        self.counters.shutdown();
         wake(&self.helper);
     }
 
     fn published(&self) -> u64 {
-        self.tail.load(Ordering::Acquire)
+        self.counters.published()
     }
 }

@@ -13,7 +13,7 @@ use oceanbench::sync::{Policy, SyncMethod};
 use oceanbench::workload::{KindParams, WorkloadKind};
 use std::ffi::OsStr;
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
 use std::time::Duration;
 
 /// The quick run committed as a fixture: a small sweep's results.json, a path and an argument.
@@ -51,6 +51,17 @@ pub fn command(args: &[impl AsRef<OsStr>]) -> Command {
     cmd
 }
 
+/// The binary with `args` and its per-core locks under `lock_dir`, so that tests running on the
+/// same cores at once never wait on each other's locks; stdout and stderr are piped, for a child
+/// that is spawned and read later as for one that is run to its end.
+pub fn command_locked(lock_dir: &Path, args: &[impl AsRef<OsStr>]) -> Command {
+    let mut cmd = command(args);
+    cmd.env(oceanbench::lock::DIR_ENV, lock_dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    cmd
+}
+
 /// Runs the binary with `args` in the checkout's top folder.
 pub fn oceanbench(args: &[impl AsRef<OsStr>]) -> Output {
     command(args).output().expect("the binary runs")
@@ -60,6 +71,14 @@ pub fn oceanbench(args: &[impl AsRef<OsStr>]) -> Output {
 pub fn oceanbench_in(dir: &Path, args: &[impl AsRef<OsStr>]) -> Output {
     command(args)
         .current_dir(dir)
+        .output()
+        .expect("the binary runs")
+}
+
+/// Runs the binary with `args` in the checkout's top folder, its per-core locks under
+/// `lock_dir` ([`command_locked`]).
+pub fn oceanbench_locked(lock_dir: &Path, args: &[impl AsRef<OsStr>]) -> Output {
+    command_locked(lock_dir, args)
         .output()
         .expect("the binary runs")
 }

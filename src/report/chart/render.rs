@@ -1,7 +1,8 @@
 //! Drawing the chart data with plotters, the same way for every backend.
 
 use super::{ChartError, ChartFormat};
-use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
+use plotters::chart::MeshStyle;
+use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged, ValueFormatter};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -338,6 +339,51 @@ fn frame<DB: DrawingBackend>(
     Ok(root.margin(y, footer, 8, 16))
 }
 
+/// A panel's chart in the house style: its caption above, room for tick labels and an axis name
+/// on the left and `x_labels` pixels of it below.
+fn panel_chart<'a, 'b, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    caption: &str,
+    x_labels: u32,
+) -> ChartBuilder<'a, 'b, DB> {
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .caption(caption, font(19.0))
+        .margin(10)
+        .x_label_area_size(x_labels)
+        .y_label_area_size(88);
+    builder
+}
+
+/// Draws a chart's axes in the house style, named `x_desc` and `y_desc` (if any), their ticks
+/// labelled by `x_fmt` and `y_fmt`; `mesh` holds what the chart sets apart (a grid direction
+/// left out, more labels).
+fn draw_axes<'b, X, Y, DB>(
+    mesh: &mut MeshStyle<'_, 'b, X, Y, DB>,
+    x_desc: &str,
+    y_desc: Option<&str>,
+    x_fmt: &'b dyn Fn(&X::ValueType) -> String,
+    y_fmt: &'b dyn Fn(&Y::ValueType) -> String,
+) -> Result<(), DrawError>
+where
+    X: Ranged + ValueFormatter<X::ValueType>,
+    Y: Ranged + ValueFormatter<Y::ValueType>,
+    DB: DrawingBackend,
+{
+    if let Some(y_desc) = y_desc {
+        mesh.y_desc(y_desc);
+    }
+    mesh.x_desc(x_desc)
+        .x_label_formatter(x_fmt)
+        .y_label_formatter(y_fmt)
+        .label_style(font(15.0))
+        .axis_desc_style(font(17.0))
+        .light_line_style(LIGHT)
+        .max_light_lines(1)
+        .draw()
+        .map_err(err)
+}
+
 /// An f64 axis whose ticks sit at the category indices 0..n. Plotters' `with_key_points`
 /// cannot be used: on an f64 axis it loses the label formatter `configure_mesh` needs.
 #[derive(Clone)]
@@ -416,11 +462,7 @@ fn bar_panel<DB: DrawingBackend>(
     y_max: f64,
 ) -> Result<(), DrawError> {
     let n = panel.groups.len().max(1);
-    let mut chart = ChartBuilder::on(area)
-        .caption(&panel.caption, font(19.0))
-        .margin(10)
-        .x_label_area_size(64)
-        .y_label_area_size(88)
+    let mut chart = panel_chart(area, &panel.caption, 64)
         .build_cartesian_2d(categories(-0.5..n as f64 - 0.5, n), 0.0..y_max)
         .map_err(err)?;
     let group_px = chart.plotting_area().dim_in_pixel().0 as f64 / n as f64;
@@ -437,19 +479,13 @@ fn bar_panel<DB: DrawingBackend>(
         }
     };
     let y_fmt = |v: &f64| (plot.format)(*v);
-    chart
-        .configure_mesh()
-        .disable_x_mesh()
-        .x_desc(&plot.x_desc)
-        .y_desc(&plot.y_desc)
-        .x_label_formatter(&x_fmt)
-        .y_label_formatter(&y_fmt)
-        .label_style(font(15.0))
-        .axis_desc_style(font(17.0))
-        .light_line_style(LIGHT)
-        .max_light_lines(1)
-        .draw()
-        .map_err(err)?;
+    draw_axes(
+        chart.configure_mesh().disable_x_mesh(),
+        &plot.x_desc,
+        Some(&plot.y_desc),
+        &x_fmt,
+        &y_fmt,
+    )?;
     if !fits {
         group_labels(area, &chart, &panel.groups, group_px)?;
     }
@@ -625,11 +661,7 @@ fn lines<DB: DrawingBackend>(
     let n = plot.categories.len().max(1);
     let areas = area.split_evenly((1, plot.panels.len().max(1)));
     for (panel, area) in plot.panels.iter().zip(&areas) {
-        let mut chart = ChartBuilder::on(area)
-            .caption(&panel.caption, font(19.0))
-            .margin(10)
-            .x_label_area_size(58)
-            .y_label_area_size(88)
+        let mut chart = panel_chart(area, &panel.caption, 58)
             .build_cartesian_2d(
                 categories(-0.4..n as f64 - 0.6, n),
                 (lo..hi)
@@ -639,19 +671,13 @@ fn lines<DB: DrawingBackend>(
             .map_err(err)?;
         let x_fmt = |v: &f64| label_at(&plot.categories, *v);
         let y_fmt = |v: &f64| ms(*v);
-        chart
-            .configure_mesh()
-            .x_desc(&plot.x_desc)
-            .y_desc(&plot.y_desc)
-            .x_label_formatter(&x_fmt)
-            .y_label_formatter(&y_fmt)
-            .label_style(font(15.0))
-            .axis_desc_style(font(17.0))
-            .light_line_style(LIGHT)
-            .max_light_lines(1)
-            .y_labels(15)
-            .draw()
-            .map_err(err)?;
+        draw_axes(
+            chart.configure_mesh().y_labels(15),
+            &plot.x_desc,
+            Some(&plot.y_desc),
+            &x_fmt,
+            &y_fmt,
+        )?;
         let count = panel.series.len().max(1) as f64;
         for (s, series) in panel.series.iter().enumerate() {
             // A small sideways shift per series keeps equal values from hiding each other.
@@ -692,14 +718,7 @@ fn traces<DB: DrawingBackend>(
         let points = || panel.traces.iter().flat_map(|t| &t.points);
         let y_max = points().map(|p| p.1).fold(0.0, f64::max).max(1e-3) * 1.15;
         let x_max = points().map(|p| p.0).fold(0.0, f64::max).max(1e-3) * 1.15;
-        let builder = || {
-            let mut b = ChartBuilder::on(area);
-            b.caption(&panel.caption, font(19.0))
-                .margin(10)
-                .x_label_area_size(58)
-                .y_label_area_size(88);
-            b
-        };
+        let builder = || panel_chart(area, &panel.caption, 58);
         if plot.log_x {
             let x_min = points()
                 .map(|p| p.0)
@@ -736,22 +755,17 @@ fn trace_panel<DB: DrawingBackend, X>(
     x_label: impl Fn(f64) -> String,
 ) -> Result<(), DrawError>
 where
-    X: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
     let x_fmt = |v: &f64| x_label(*v);
     let y_fmt = |v: &f64| (plot.y_format)(*v);
-    chart
-        .configure_mesh()
-        .x_desc(&plot.x_desc)
-        .y_desc(&plot.y_desc)
-        .x_label_formatter(&x_fmt)
-        .y_label_formatter(&y_fmt)
-        .label_style(font(15.0))
-        .axis_desc_style(font(17.0))
-        .light_line_style(LIGHT)
-        .max_light_lines(1)
-        .draw()
-        .map_err(err)?;
+    draw_axes(
+        &mut chart.configure_mesh(),
+        &plot.x_desc,
+        Some(&plot.y_desc),
+        &x_fmt,
+        &y_fmt,
+    )?;
     // A point's label is drawn only where it overlaps no label already drawn: in a cluster of
     // points the first trace's labels stand for the rest.
     let mut placed: Vec<(i32, i32, i32, i32)> = Vec::new();
@@ -825,18 +839,13 @@ fn stacks<DB: DrawingBackend>(
         .map_err(err)?;
     let y_fmt = |v: &f64| label_at(&labels, *v);
     let x_fmt = |v: &f64| ms(*v);
-    chart
-        .configure_mesh()
-        .disable_y_mesh()
-        .x_desc(&plot.x_desc)
-        .x_label_formatter(&x_fmt)
-        .y_label_formatter(&y_fmt)
-        .label_style(font(15.0))
-        .axis_desc_style(font(17.0))
-        .light_line_style(LIGHT)
-        .max_light_lines(1)
-        .draw()
-        .map_err(err)?;
+    draw_axes(
+        chart.configure_mesh().disable_y_mesh(),
+        &plot.x_desc,
+        None,
+        &x_fmt,
+        &y_fmt,
+    )?;
     for (i, row) in plot.rows.iter().enumerate() {
         let y = (n - 1 - i) as f64;
         let (main_lo, main_hi) = if row.helper.is_some() {

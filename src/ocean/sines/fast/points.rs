@@ -6,7 +6,7 @@
 
 use super::math::fma;
 use super::phase::{Power, WaveConsts};
-use super::simd::{self, by_exp, full_gen, full_int, Isa};
+use super::simd::{self, by_exp, full, IntExp, Isa};
 use super::vector::Vector;
 use crate::ocean::mesh::MeshRows;
 use crate::ocean::waves::WaveSet;
@@ -159,8 +159,10 @@ impl simd::ForIsa for Points<'_, '_> {
                 // and cos unchanged.
                 let (s, c): (&[f32], &[f32]) = (sin, cos);
                 match wave.power {
-                    Power::Int(e) => by_exp!(e, full_int::<F>(s, c, 0.0, 1.0, wave, z, nx, ny)),
-                    Power::General(e) => full_gen::<F>(s, c, 0.0, 1.0, wave, e, z, nx, ny),
+                    Power::Int(e) => {
+                        by_exp!(e, E => full::<F>(s, c, 0.0, 1.0, wave, IntExp::<E>, z, nx, ny))
+                    }
+                    Power::General(e) => full::<F>(s, c, 0.0, 1.0, wave, e, z, nx, ny),
                 }
             }
             V::slopes_to_normals::<F>(nx, ny, nz);

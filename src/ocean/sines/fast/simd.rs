@@ -119,25 +119,22 @@ fn run_avx2<T: ForIsa>(work: T) -> T::Output {
 }
 
 /// Calls `$f::<generics…, E>(args…)` with the compile-time exponent E matching `$e`
-/// (0..=MAX_INT_EXP).
+/// (0..=MAX_INT_EXP); or, given `E => body`, evaluates `body` with the constant `E` so bound.
 macro_rules! by_exp {
-    ($e:expr, $f:ident::<$($g:tt),*>($($arg:expr),*)) => {
+    (@arms $e:expr, $E:ident => $body:expr, $($n:literal)*) => {
         match $e {
-            0 => $f::<$($g,)* 0>($($arg),*),
-            1 => $f::<$($g,)* 1>($($arg),*),
-            2 => $f::<$($g,)* 2>($($arg),*),
-            3 => $f::<$($g,)* 3>($($arg),*),
-            4 => $f::<$($g,)* 4>($($arg),*),
-            5 => $f::<$($g,)* 5>($($arg),*),
-            6 => $f::<$($g,)* 6>($($arg),*),
-            7 => $f::<$($g,)* 7>($($arg),*),
-            8 => $f::<$($g,)* 8>($($arg),*),
-            9 => $f::<$($g,)* 9>($($arg),*),
-            10 => $f::<$($g,)* 10>($($arg),*),
-            11 => $f::<$($g,)* 11>($($arg),*),
-            12 => $f::<$($g,)* 12>($($arg),*),
+            $($n => {
+                const $E: u32 = $n;
+                $body
+            })*
             _ => unreachable!("exponent above MAX_INT_EXP"),
         }
+    };
+    ($e:expr, $f:ident::<$($g:tt),*>($($arg:expr),*)) => {
+        by_exp!($e, E => $f::<$($g,)* E>($($arg),*))
+    };
+    ($e:expr, $E:ident => $body:expr) => {
+        by_exp!(@arms $e, $E => $body, 0 1 2 3 4 5 6 7 8 9 10 11 12)
     };
 }
 pub(super) use by_exp;
@@ -185,12 +182,14 @@ impl ForIsa for PerWave<'_> {
                 let (sb, cb) = (tables.row_sin[w * m + i], tables.row_cos[w * m + i]);
                 let a = wave.amp;
                 match (analytic, wave.power) {
-                    (false, Power::Int(e)) => by_exp!(e, heights_int::<F>(sa, ca, sb, cb, a, z)),
-                    (false, Power::General(e)) => heights_gen::<F>(sa, ca, sb, cb, a, e, z),
-                    (true, Power::Int(e)) => {
-                        by_exp!(e, full_int::<F>(sa, ca, sb, cb, wave, z, nx, ny))
+                    (false, Power::Int(e)) => {
+                        by_exp!(e, E => heights::<F>(sa, ca, sb, cb, a, IntExp::<E>, z))
                     }
-                    (true, Power::General(e)) => full_gen::<F>(sa, ca, sb, cb, wave, e, z, nx, ny),
+                    (false, Power::General(e)) => heights::<F>(sa, ca, sb, cb, a, e, z),
+                    (true, Power::Int(e)) => {
+                        by_exp!(e, E => full::<F>(sa, ca, sb, cb, wave, IntExp::<E>, z, nx, ny))
+                    }
+                    (true, Power::General(e)) => full::<F>(sa, ca, sb, cb, wave, e, z, nx, ny),
                 }
             }
             if analytic {
@@ -212,48 +211,58 @@ fn half_cos<const F: bool>(sa: f32, ca: f32, sb: f32, cb: f32) -> f32 {
     fma::<F>(ca, cb, -(sa * sb))
 }
 
-/// Adds A·|h|^(E+2) = A·((sin S + 1)/2)^k to a row of heights.
+/// |h|^e, the power in the wave formula, as the row loops compute it for one kind of exponent.
+pub(super) trait AbsPow<const F: bool>: Copy {
+    /// |h| to this power.
+    fn of(self, h: f32) -> f32;
+}
+
+/// A compile-time integer exponent E, by repeated squaring.
+#[derive(Clone, Copy)]
+pub(super) struct IntExp<const E: u32>;
+
+impl<const F: bool, const E: u32> AbsPow<F> for IntExp<E> {
+    #[inline(always)]
+    fn of(self, h: f32) -> f32 {
+        powi::<Lane<F>, E>(Lane(h.abs())).0
+    }
+}
+
+/// Any exponent e = 2k − 2, by the polynomial log and exp.
+impl<const F: bool> AbsPow<F> for f32 {
+    #[inline(always)]
+    fn of(self, h: f32) -> f32 {
+        pow_abs::<F>(h, self)
+    }
+}
+
+/// Adds A·|h|^(e+2) = A·((sin S + 1)/2)^k to a row of heights, |h|^e by `pow`.
 #[inline(always)]
-fn heights_int<const F: bool, const E: u32>(
+fn heights<const F: bool>(
     sa: &[f32],
     ca: &[f32],
     sb: f32,
     cb: f32,
     amp: f32,
+    pow: impl AbsPow<F>,
     z: &mut [f32],
 ) {
     for ((z, &sa), &ca) in z.iter_mut().zip(sa).zip(ca) {
         let h = half_sin::<F>(sa, ca, sb, cb);
-        *z = fma::<F>(amp, powi::<Lane<F>, E>(Lane(h.abs())).0 * (h * h), *z);
+        *z = fma::<F>(amp, pow.of(h) * (h * h), *z);
     }
 }
 
-/// `heights_int` for any exponent e = 2k − 2.
-#[inline(always)]
-fn heights_gen<const F: bool>(
-    sa: &[f32],
-    ca: &[f32],
-    sb: f32,
-    cb: f32,
-    amp: f32,
-    e: f32,
-    z: &mut [f32],
-) {
-    for ((z, &sa), &ca) in z.iter_mut().zip(sa).zip(ca) {
-        let h = half_sin::<F>(sa, ca, sb, cb);
-        *z = fma::<F>(amp, pow_abs::<F>(h, e) * (h * h), *z);
-    }
-}
-
-/// Adds one wave's height and slope (cos S = 2·sin θ·cos θ) to a row.
+/// Adds one wave's height and slope (cos S = 2·sin θ·cos θ) to a row, |h|^e by `pow`.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub(super) fn full_int<const F: bool, const E: u32>(
+pub(super) fn full<const F: bool>(
     sa: &[f32],
     ca: &[f32],
     sb: f32,
     cb: f32,
     wave: &WaveConsts,
+    pow: impl AbsPow<F>,
     z: &mut [f32],
     dx: &mut [f32],
     dy: &mut [f32],
@@ -263,34 +272,7 @@ pub(super) fn full_int<const F: bool, const E: u32>(
     for (((z, dx), dy), (&sa, &ca)) in outs.zip(sa.iter().zip(ca)) {
         let h = half_sin::<F>(sa, ca, sb, cb);
         let g = half_cos::<F>(sa, ca, sb, cb);
-        let p = powi::<Lane<F>, E>(Lane(h.abs())).0;
-        *z = fma::<F>(amp, p * (h * h), *z);
-        let q = p * (h * g);
-        *dx = fma::<F>(cx, q, *dx);
-        *dy = fma::<F>(cy, q, *dy);
-    }
-}
-
-/// `full_int` for any exponent e = 2k − 2.
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-pub(super) fn full_gen<const F: bool>(
-    sa: &[f32],
-    ca: &[f32],
-    sb: f32,
-    cb: f32,
-    wave: &WaveConsts,
-    e: f32,
-    z: &mut [f32],
-    dx: &mut [f32],
-    dy: &mut [f32],
-) {
-    let (amp, cx, cy) = (wave.amp, wave.cx, wave.cy);
-    let outs = z.iter_mut().zip(dx.iter_mut()).zip(dy.iter_mut());
-    for (((z, dx), dy), (&sa, &ca)) in outs.zip(sa.iter().zip(ca)) {
-        let h = half_sin::<F>(sa, ca, sb, cb);
-        let g = half_cos::<F>(sa, ca, sb, cb);
-        let p = pow_abs::<F>(h, e);
+        let p = pow.of(h);
         *z = fma::<F>(amp, p * (h * h), *z);
         let q = p * (h * g);
         *dx = fma::<F>(cx, q, *dx);
