@@ -466,3 +466,62 @@ fn refresh_rewrites_the_write_ups_from_results_json_and_leaves_it_as_it_was() {
     assert!(!findings["findings"].as_array().unwrap().is_empty());
     assert!(run.join("report.html").is_file());
 }
+
+/// The page opens with its verdict (the run's findings, and with a baseline how many cells
+/// moved), then contents linking every section, and keeps the list of what ran for last.
+#[test]
+fn the_page_opens_with_the_verdict_and_links_every_section() {
+    let results = fixture();
+    let doc = page(&results);
+    let body_order: Vec<String> = doc
+        .select(&sel("body > h2, body > section > h2"))
+        .map(text)
+        .collect();
+    assert_eq!(
+        body_order.first().map(String::as_str),
+        Some("Verdict"),
+        "{body_order:?}"
+    );
+    assert_eq!(
+        body_order.last().map(String::as_str),
+        Some("What was run"),
+        "{body_order:?}"
+    );
+    let findings = oceanbench::findings::of(&results).findings;
+    let shown: Vec<String> = doc.select(&sel("#findings li")).map(text).collect();
+    assert_eq!(shown.len(), findings.len());
+    assert!(!shown.is_empty() && shown[0] == findings[0].sentence);
+    let links: Vec<String> = doc
+        .select(&sel("#contents a"))
+        .map(|a| a.value().attr("href").unwrap().to_string())
+        .collect();
+    assert!(links.len() >= 5, "{links:?}");
+    for href in &links {
+        assert!(
+            doc.select(&sel(href)).next().is_some(),
+            "{href} links to no section"
+        );
+    }
+
+    let c = compare::between(&results, &results, 5.0, Metric::Fps);
+    let with = Html::parse_document(
+        &html::page(
+            &results,
+            "new",
+            Some(&Baseline {
+                name: "base-run",
+                comparison: &c,
+            }),
+        )
+        .unwrap(),
+    );
+    let line = text(with.select(&sel("#verdict-baseline")).next().unwrap());
+    assert!(
+        line.contains(&c.summary_line()) && line.contains("base-run"),
+        "{line}"
+    );
+    assert!(with
+        .select(&sel("#contents a[href='#comparison']"))
+        .next()
+        .is_some());
+}

@@ -70,11 +70,18 @@ pub fn page(
                     }
                     "; " (results.cells.len()) " cells from " code { (source) } "."
                 }
-                (what_was_run(results))
-                h2 { "Figure 5-1" }
+                (verdict(results, baseline))
+                nav id="contents" {
+                    "Contents: "
+                    @for (i, (id, name)) in sections(has_balance, baseline.is_some()).iter().enumerate() {
+                        @if i > 0 { " · " }
+                        a href={ "#" (id) } { (name) }
+                    }
+                }
+                h2 id="figure-5-1" { "Figure 5-1" }
                 (chart("figure-5-1"))
                 (chart("relative"))
-                h2 { "Frames per second" }
+                h2 id="fps" { "Frames per second" }
                 p.note {
                     "FPS = frames ÷ seconds over every trial; ± is the spread (coefficient of variation) over trials; "
                     (NOISY) " marks a cell that kept a trial in which other tasks or the hypervisor took more than "
@@ -99,19 +106,20 @@ pub fn page(
                     ul id="noisy-cells" { @for line in &noisy { li { (line) } } }
                 }
                 @for t in markdown::work_tables(results) { (table(&t)) }
-                h2 { "Frame times" }
+                h2 id="frame-times" { "Frame times" }
                 (table(&frame_metrics(results)))
                 (chart("frame-times"))
                 (chart("breakdown"))
                 @if has_balance {
-                    h2 { "Balance point" }
+                    h2 id="balance" { "Balance point" }
                     @if let Some(t) = markdown::balance_table(results) { (table(&t)) }
                     (chart("balance"))
                 }
-                h2 { "Hand-offs and latency" }
+                h2 id="handoffs" { "Hand-offs and latency" }
                 (chart("sync"))
                 (chart("latency-vs-fps"))
                 @if let Some(b) = baseline { (comparison(b)) }
+                (what_was_run(results))
                 footer {
                     "Written by oceanbench " (env!("CARGO_PKG_VERSION"))
                     " from the results file alone; the charts are the ones "
@@ -121,6 +129,53 @@ pub fn page(
         }
     };
     Ok(markup.into_string())
+}
+
+/// The page's sections, each its anchor and heading, in page order.
+fn sections(balance: bool, baseline: bool) -> Vec<(&'static str, &'static str)> {
+    let mut out = vec![
+        ("figure-5-1", "Figure 5-1"),
+        ("fps", "Frames per second"),
+        ("frame-times", "Frame times"),
+    ];
+    if balance {
+        out.push(("balance", "Balance point"));
+    }
+    out.push(("handoffs", "Hand-offs and latency"));
+    if baseline {
+        out.push(("comparison", "Against the baseline"));
+    }
+    out.push(("what-ran", "What was run"));
+    out
+}
+
+/// What the run shows, first: with a baseline, how many cells improved or regressed against
+/// it; then the run's findings, each one sentence with its numbers and conditions.
+fn verdict(results: &Results, baseline: Option<&Baseline>) -> Markup {
+    let findings = crate::findings::of(results).findings;
+    html! {
+        section id="verdict" {
+            h2 { "Verdict" }
+            @if let Some(b) = baseline {
+                p id="verdict-baseline" {
+                    (b.comparison.summary_line()) " "
+                    a href="#comparison" { "(against " code { (b.name) } ")" }
+                }
+            }
+            @let warned = warnings(results).len();
+            @if warned > 0 {
+                p.note id="verdict-warnings" {
+                    (warned) " noise warning(s) on this run: "
+                    a href="#noise-warnings" { "read them" } " before trusting its numbers."
+                }
+            }
+            @if findings.is_empty() {
+                p.note { "No finding: the run holds no cell a finding compares." }
+            } @else {
+                ul id="findings" { @for f in &findings { li { (f.sentence) } } }
+            }
+        }
+    }
 }
 
 /// The config, the command line, the machine and what may have disturbed the run.
@@ -145,7 +200,7 @@ fn what_was_run(results: &Results) -> Markup {
         .filter(|(_, v)| !v.is_empty())
         .collect();
     html! {
-        h2 { "What was run" }
+        h2 id="what-ran" { "What was run" }
         dl.facts {
             dt { "config" } dd { code { (config.name) } }
             dt { "description" } dd {
@@ -183,7 +238,7 @@ fn what_was_run(results: &Results) -> Markup {
                 @else { (machine.provenance_line()) }
             }
         }
-        h3 { "Noise warnings" }
+        h3 id="noise-warnings" { "Noise warnings" }
         @let warnings = warnings(results);
         @if warnings.is_empty() {
             p { "None: no trial was disturbed beyond the threshold, the levels did not drift and "
