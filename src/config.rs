@@ -9,6 +9,7 @@ pub use crate::machine::available_memory;
 use crate::ocean::{self, mesh, FftParams, Grid, Mesh, OceanParams, Wave, WaveSet};
 use crate::suggest;
 use crate::workload::{self, KindParams, WorkloadKind};
+use itertools::Itertools;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -140,7 +141,8 @@ fn parse_config(text: &str) -> Result<SweepConfig, InputError> {
             parsed?;
         }
     }
-    serde_path_to_error::deserialize(value).map_err(|e| {
+    let names_normals = object.contains_key("normals");
+    let mut config: SweepConfig = serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
         let msg = suggest::with_suggestion(&e.into_inner().to_string());
         if path == "." || path.is_empty() {
@@ -148,7 +150,18 @@ fn parse_config(text: &str) -> Result<SweepConfig, InputError> {
         } else {
             InputError(format!("{path}: {msg}"))
         }
-    })
+    })?;
+    if !names_normals {
+        // Each listed model's own normals, rather than the paper's for a model that has better.
+        config.axes.normals = config
+            .axes
+            .ocean
+            .iter()
+            .map(|o| o.model().default_normals())
+            .unique()
+            .collect();
+    }
+    Ok(config)
 }
 
 impl SweepConfig {

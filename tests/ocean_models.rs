@@ -173,3 +173,26 @@ fn a_sweep_runs_a_registered_model_on_the_helper() {
         .check(6, NormalMethod::Analytic)
         .is_err());
 }
+
+/// A config that names no normals runs each listed model's own (`neighbors` for the sines,
+/// the paper's; `analytic` for the FFT ocean, its spectral slopes); normals a config names are
+/// kept.
+#[test]
+fn a_config_without_normals_takes_each_models_own() {
+    use oceanbench::config::SweepConfig;
+    use oceanbench::ocean::NormalMethod;
+    let normals = |json: &str| SweepConfig::from_json(json).unwrap().axes.normals;
+    assert_eq!(normals(r#"{"sizes": [64]}"#), [NormalMethod::Neighbors]);
+    assert_eq!(
+        normals(r#"{"sizes": [64], "ocean": ["fft"]}"#),
+        [NormalMethod::Analytic]
+    );
+    assert_eq!(
+        normals(r#"{"sizes": [64], "ocean": ["sines", "fft"]}"#),
+        [NormalMethod::Neighbors, NormalMethod::Analytic]
+    );
+    assert_eq!(
+        normals(r#"{"sizes": [64], "ocean": ["fft"], "normals": ["neighbors"]}"#),
+        [NormalMethod::Neighbors]
+    );
+}

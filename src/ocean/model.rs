@@ -151,6 +151,12 @@ pub trait Model: Send + Sync {
     /// The normal methods it offers.
     fn normals(&self) -> &'static [NormalMethod];
 
+    /// The normals a sweep that names none runs it with: `neighbors`, the paper's, unless the
+    /// model has a better one of its own.
+    fn default_normals(&self) -> NormalMethod {
+        NormalMethod::Neighbors
+    }
+
     /// Whether several helpers can each fill a band of rows alone with `normals`; the error, one
     /// line under the `helpers` field, says why not.
     fn splits_into_rows(&self, normals: NormalMethod) -> Result<(), InputError>;

@@ -51,6 +51,12 @@ impl Model for FftOcean {
         &[NormalMethod::Analytic, NormalMethod::Neighbors]
     }
 
+    /// The spectral slopes: the surface's own derivatives, at about half the cost of averaging
+    /// the faces of the displaced mesh.
+    fn default_normals(&self) -> NormalMethod {
+        NormalMethod::Analytic
+    }
+
     /// Helpers split the row pass and the column pass by rows, meeting at the frame loop's
     /// barrier between them ([`FftState::split`]); face normals at a band's edge would need
     /// the neighbouring band's vertices.
