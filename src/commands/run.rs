@@ -10,6 +10,7 @@ use crate::report;
 use crate::results::Results;
 use crate::sweep::Sweep;
 use crate::workload::WorkloadKind;
+use itertools::Itertools;
 
 /// The cell `run` measures when its flags are left out: a mid-size mesh in DP, where the
 /// hand-off matters, rather than the sweep's first values.
@@ -49,14 +50,20 @@ fn ignored_flags(cell: &DimArgs, axes: &Axes) -> Vec<String> {
         .collect()
 }
 
-/// Normals the flags left out take the default's, unless a cell the flags ask for cannot run
-/// with them: then the first method every cell can run, analytic first (the cheapest, and the
+/// Normals the flags left out take each listed model's own (as a config that names none),
+/// unless a cell the flags ask for cannot run with them: then the first method every cell can run, analytic first (the cheapest, and the
 /// one the projected grid and split rows need), and the note that says so. `run --grid
 /// projected` and `run --helpers 2` so run rather than refuse a value nobody gave.
 fn fit_normals(axes: &mut Axes, cell: &DimArgs) -> Option<String> {
     if cell.get(Dim::Normals).is_some() {
         return None;
     }
+    axes.normals = axes
+        .ocean
+        .iter()
+        .map(|o| o.model().default_normals())
+        .unique()
+        .collect();
     let why = axes.refusal()?;
     let default = axes.normals.clone();
     for normals in [
