@@ -598,3 +598,45 @@ fn the_ci_docs_match_the_ci_config() {
     }
     assert!(config["trials"].as_u64().unwrap() >= compare::MIN_TRIALS as u64);
 }
+
+/// Two cells whose rows resolved the workload to microseconds over `LEVEL_MISMATCH` apart
+/// compare other game work: their pair is marked ¶ with its footnote, whatever its verdict;
+/// a drift within the bound marks nothing.
+#[test]
+fn pairs_whose_levels_came_to_other_microseconds_are_marked() {
+    use oceanbench::calibrate::RowCalibration;
+    use oceanbench::level::Calibrate;
+    let base = five_trials();
+    let at = base.cells.iter().position(|c| c.summary.is_some()).unwrap();
+    let with_level = |r: &Results, micros: f64| {
+        let mut r = r.clone();
+        r.cells[at].calibration = Some(RowCalibration {
+            calibrate: Calibrate::Row,
+            step_ms_at_start: 1.0,
+            step_ms_in_row: 1.0,
+            ns_per_iteration_at_start: 1.0,
+            ns_per_iteration_in_row: 1.0,
+            level_micros: micros,
+        });
+        r
+    };
+    let (b, drifted, other) = (
+        with_level(&base, 1000.0),
+        with_level(&base, 1080.0),
+        with_level(&base, 1500.0),
+    );
+    let label = base.cells[at].key.label();
+    let marked = |c: &Comparison| c.changes.iter().find(|x| x.label == label).unwrap().level;
+
+    let within = compare::between(&b, &drifted, 5.0, Metric::Fps);
+    assert!(!marked(&within));
+    assert!(!within.to_markdown().contains('¶'));
+
+    let c = compare::between(&b, &other, 5.0, Metric::Fps);
+    assert!(marked(&c));
+    assert_eq!(c.changes.iter().filter(|x| x.level).count(), 1);
+    let md = c.to_markdown();
+    let row = md.lines().find(|l| l.contains(&label)).unwrap();
+    assert!(row.contains('¶'), "{row}");
+    assert!(md.contains("¶ compares cells whose workload came to microseconds over 10% apart"));
+}

@@ -2,7 +2,7 @@
 //! pull-request comments) and JSON, each a table of verdict, change, interval and both means
 //! with the notes under it. What the verdicts are is [`super::analysis::compare`]'s.
 
-use super::analysis::compare::{Change, Comparison, Metric, Verdict, MIN_TRIALS};
+use super::analysis::compare::{Change, Comparison, Metric, Verdict, LEVEL_MISMATCH, MIN_TRIALS};
 use super::markdown::MIXED;
 use std::fmt::Write;
 
@@ -12,6 +12,9 @@ const NOISY: &str = "†";
 
 /// The footnote of [`NOISY`].
 const NOISY_NOTE: &str = "† rests on trials in which other tasks or the hypervisor took more than the noise threshold, or on a slow trial nothing recorded explains: re-run before trusting it";
+
+/// Marks a verdict whose two cells' workload came to other microseconds.
+const OTHER_LEVEL: &str = "¶";
 
 /// The footnote of [`MIXED`].
 const MIXED_NOTE: &str = "§ rests on a cell whose trials ran in more than one placement of the two cores, or compares cells that ran in different placements (round trips over 2× apart): compare within one placement (docs/noise.md)";
@@ -115,6 +118,12 @@ impl Comparison {
         if self.changes.iter().any(|c| c.placement) {
             out.push(MIXED_NOTE.to_string());
         }
+        if self.changes.iter().any(|c| c.level) {
+            out.push(format!(
+                "{OTHER_LEVEL} compares cells whose workload came to microseconds over {:.0}% apart (each row resolves its level from its own yardstick): the change is the level's as much as the code's; compare with `calibrate: once`, or levels in µs",
+                LEVEL_MISMATCH * 100.0
+            ));
+        }
         out
     }
 
@@ -130,8 +139,9 @@ impl Comparison {
                 };
                 let noisy = if c.noisy { NOISY } else { "" };
                 let mixed = if c.placement { MIXED } else { "" };
+                let level = if c.level { OTHER_LEVEL } else { "" };
                 [
-                    format!("{}{noisy}{mixed}", c.verdict.words()),
+                    format!("{}{noisy}{mixed}{level}", c.verdict.words()),
                     pct(c.change_pct),
                     format!("[{}, {}]{mark}", pct(c.ci_low_pct), pct(c.ci_high_pct)),
                     value(self.metric, c.base),

@@ -139,6 +139,10 @@ pub struct Change {
     /// A side's trials mixed placements, or the two sides ran in different placements.
     #[serde(default)]
     pub placement: bool,
+    /// The two cells' workload came to microseconds over [`LEVEL_MISMATCH`] apart: each row
+    /// resolves its levels from its own yardstick, so the pair compares other game work.
+    #[serde(default)]
+    pub level: bool,
     /// The classification against the threshold.
     pub verdict: Verdict,
 }
@@ -445,6 +449,7 @@ impl Comparison {
             self.changes.push(Change {
                 noisy,
                 placement,
+                level: levels_differ(p.base, p.new),
                 ..change(p.label, p.versus, &b, &n, threshold, seed, self.metric)
             });
         }
@@ -492,6 +497,18 @@ impl Comparison {
         .filter(|(_, list)| !list.is_empty())
         .map(|(title, list)| (title, list.as_slice()))
         .collect()
+    }
+}
+
+/// Whether two cells' workload levels came to microseconds over [`LEVEL_MISMATCH`] apart, as
+/// their rows resolved them (cells without a row calibration, from before it, never differ).
+fn levels_differ(a: &Cell, b: &Cell) -> bool {
+    match (&a.calibration, &b.calibration) {
+        (Some(x), Some(y)) => {
+            let (x, y) = (x.level_micros, y.level_micros);
+            (x - y).abs() > LEVEL_MISMATCH * x.max(y)
+        }
+        _ => false,
     }
 }
 
@@ -560,6 +577,7 @@ fn change(
         new_trials: new.len(),
         noisy: false,
         placement: false,
+        level: false,
         verdict,
     }
 }
