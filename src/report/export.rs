@@ -1,6 +1,7 @@
 //! The formats of a results folder, one exporter each behind one trait (as hyperfine's export/
 //! has them): JSON (the results file and its findings), markdown and CSV. Each turns a results
-//! file into its files; [`super::write_all`] writes every exporter's files, atomically.
+//! file into its files; [`super::EXPORTERS`] lists them and [`super::write_all`] writes every
+//! exporter's files, atomically.
 
 use crate::results::Results;
 
@@ -34,10 +35,3 @@ pub trait Exporter: Sync {
     /// The files of this format for `results`; none when the results hold nothing it shows.
     fn export(&self, results: &Results) -> Result<Vec<Export>, ExportError>;
 }
-
-/// Every format a run's folder holds, in the order its files are written.
-pub const EXPORTERS: [&dyn Exporter; 3] = [
-    &super::json::Json,
-    &super::markdown::Markdown,
-    &super::csv::Csv,
-];

@@ -16,6 +16,9 @@ pub use analysis::{compare, shift};
 use crate::results::Results;
 use std::path::{Path, PathBuf};
 
+/// Every format a run's folder holds, in the order its files are written.
+pub const EXPORTERS: [&dyn export::Exporter; 3] = [&json::Json, &markdown::Markdown, &csv::Csv];
+
 /// A results file that could not be written, named.
 #[derive(Debug, thiserror::Error)]
 #[error("{}: {source}", path.display())]
@@ -26,13 +29,13 @@ pub struct WriteError {
     pub source: std::io::Error,
 }
 
-/// Writes every format's files ([`export::EXPORTERS`]) into `dir`, each atomically: today
+/// Writes every format's files ([`EXPORTERS`]) into `dir`, each atomically: today
 /// `results.json`, `findings.json`, `results.md`, `results.csv`, `trials.csv`, and with balance
 /// points `balance.csv`, `balance-probes.csv` and `balance-placements.csv`. Every file is built
 /// before the first is written, so a format that fails leaves the folder as it was.
 pub fn write_all(dir: &Path, results: &Results) -> Result<(), WriteError> {
     let mut files = Vec::new();
-    for exporter in export::EXPORTERS {
+    for exporter in EXPORTERS {
         files.extend(exporter.export(results).map_err(|e| WriteError {
             path: dir.join(e.name),
             source: std::io::Error::other(e.message),
