@@ -151,7 +151,7 @@ fn parse_config(text: &str) -> Result<SweepConfig, InputError> {
             InputError(format!("{path}: {msg}"))
         }
     })?;
-    if !names_normals {
+    if !names_normals && !config.axes.ocean.is_empty() {
         // Each listed model's own normals, rather than the paper's for a model that has better.
         config.axes.normals = config
             .axes
