@@ -36,13 +36,22 @@ for m in "$@"; do
 done
 
 # The test targets that cover a module, one `--test=NAME` word each: the library's unit tests, and every integration test
-# that names the module's path (oceanbench::lock, oceanbench::balance...); the lock tests drive
-# the binary and name no path, so they are added by name.
+# that names the module's path (oceanbench::lock, oceanbench::report::json), or, for a module
+# inside a folder, names it on a line under its top module (oceanbench::report::{json, ...};
+# report::compare, re-exported from report::analysis); the lock tests drive the binary and name
+# no path, so they are added by name.
 tests_for() {
-  local module="$1" name args=(--lib)
+  local module="$1" name path top args=(--lib)
   name="$(basename "${module%/}" .rs)"
+  path="${module#src/}"
+  path="${path%/}"
+  path="${path%.rs}"
+  path="${path%/mod}"
+  path="${path//\//::}"
+  top="${path%%::*}"
   for t in tests/*.rs; do
-    if grep -q "oceanbench::$name\b\|crate::$name\b" "$t"; then
+    if grep -q "oceanbench::$path\b\|crate::$path\b" "$t" \
+      || { [ "$top" != "$path" ] && grep -q "oceanbench::$top::.*\b$name\b" "$t"; }; then
       args+=("--test=$(basename "$t" .rs)")
     fi
   done
