@@ -147,14 +147,14 @@ pub struct NoiseArgs {
     pub calibrate: Option<crate::calibrate::Calibrate>,
     /// A trial whose run delay or steal exceeds this percentage of its wall time is noisy
     /// (config key `noise_threshold_percent`, default 2).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub noise_threshold: Option<f64>,
     /// Re-run a noisy trial up to N times, 0 to 10 (config key `retry_noisy`, default 0).
     #[arg(long, value_name = "N")]
     pub retry_noisy: Option<u32>,
     /// A trial more than this percentage below its cell's median FPS is slow and explained
     /// (config key `slow_trial_percent`, default 10).
-    #[arg(long, value_name = "PERCENT")]
+    #[arg(long, value_name = "PERCENT", allow_negative_numbers = true)]
     pub slow_trial_percent: Option<f64>,
 }
 
@@ -208,18 +208,18 @@ pub struct RunArgs {
     #[arg(long, default_value_t = 200)]
     pub frames: u64,
     /// Measured seconds per trial, at least.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub seconds: f64,
     /// A trial stops after this many seconds even short of --frames (default: 10 × --seconds,
     /// at least 10); a cell that stopped short is named on stderr.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub max_seconds: Option<f64>,
     /// Trials per cell, interleaved with the other cells' trials.
     #[arg(long, default_value_t = 3)]
     pub trials: u32,
     /// Seconds a hand-off wait may take before the cell is given up; also the most work a
     /// frame's workload may be.
-    #[arg(long, default_value_t = 5.0)]
+    #[arg(long, default_value_t = 5.0, allow_negative_numbers = true)]
     pub timeout: f64,
     /// Cores for the main and helper threads, e.g. `0,1` (default: the first allowed).
     #[arg(long, value_delimiter = ',')]
@@ -476,7 +476,7 @@ pub struct BalanceArgs {
     #[command(flatten)]
     pub select: DimArgs,
     /// Stop when the bracket is narrower than this percentage of the step (default 2).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub tolerance: Option<f64>,
     /// Points of the speed-up curve (default 12).
     #[arg(long)]
@@ -512,7 +512,7 @@ pub struct DoctorArgs {
     #[arg(long, value_delimiter = ',')]
     pub cores: Option<Vec<usize>>,
     /// Seconds to watch the machine for steal, load and busy threads.
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     pub seconds: f64,
     /// Print the findings as JSON.
     #[arg(long)]
@@ -603,7 +603,7 @@ pub struct MeshArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub time: f32,
     /// Distance between vertices (the sines; the fft ocean's is its patch ÷ size).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub spacing: f32,
     /// Waves file (JSON); default: the built-in deep-ocean set.
     #[arg(long)]

@@ -25,7 +25,18 @@ fn bad_flags_exit_2_with_one_line() {
     refuses(&["run", "--size", "1"], &["size", "2 to"]);
     refuses(&["run", "--size", "abc"], &["--size"]);
     refuses(&["run", "--workload", "9"], &["workloads", "0 to 3"]);
-    refuses(&["run", "--trials", "0"], &["trials"]);
+    refuses(&["run", "--trials", "0"], &["trials", "1 to 1000"]);
+    // A negative number is a value out of range, not an unknown argument.
+    refuses(&["run", "--seconds", "-1"], &["min_seconds", ">= 0", "-1"]);
+    refuses(
+        &["run", "--timeout", "-3"],
+        &["timeout_seconds", "at most 86400"],
+    );
+    refuses(
+        &["run", "--noise-threshold", "-4"],
+        &["noise_threshold", "below 100"],
+    );
+    refuses(&["latency", "--samples", "0"], &["--samples", "1 to"]);
     refuses(&["run", "--cores", "0,999"], &["cores", "allowed"]);
     refuses(
         &["run", "--normals", "lookup", "--size", "300"],
@@ -69,11 +80,11 @@ fn bad_configs_exit_2_naming_the_field() {
             vec!["max_seconds"],
         ),
         (
-            r#"{"workload_levels": [{"micros": -5}]}"#,
+            r#"{"workloads": [0], "workload_levels": [{"micros": -5}]}"#,
             vec!["workload_levels[0].micros"],
         ),
         (
-            r#"{"workload_levels": [{"step_fraction": 1}]}"#,
+            r#"{"workloads": [0], "workload_levels": [{"step_fraction": 1}]}"#,
             vec!["workload_levels[0]"],
         ),
         (
@@ -160,6 +171,48 @@ fn bad_configs_exit_2_naming_the_field() {
         &["sweep", "/nonexistent/config.json"],
         &["/nonexistent/config.json"],
     );
+}
+
+#[test]
+fn a_config_with_several_errors_lists_them_all_one_line_each() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(
+        dir.path(),
+        "several.json",
+        r#"{"trials": 0, "spacing": -1, "workloads": [7], "camera": {"height": 0}, "cores": [0, 0]}"#,
+    );
+    let out_dir = dir.path().join("out");
+    let out = oceanbench(&["sweep", &path, "--out", out_dir.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let lines: Vec<&str> = stderr.lines().collect();
+    let fields = [
+        "spacing:",
+        "workloads: 7",
+        "trials:",
+        "camera.height",
+        "cores:",
+    ];
+    assert_eq!(lines.len(), fields.len(), "one line per error: {stderr}");
+    for field in fields {
+        let line = lines.iter().find(|l| l.contains(field));
+        let line = line.unwrap_or_else(|| panic!("no line names {field}: {stderr}"));
+        assert!(line.starts_with(&format!("oceanbench: {path}: ")), "{line}");
+    }
+    assert!(!out_dir.exists(), "nothing is written for a bad config");
+
+    let unknown = write(
+        dir.path(),
+        "unknown.json",
+        r#"{"sizez": [40], "modes": ["tri"], "wavez": []}"#,
+    );
+    let out = oceanbench(&["sweep", &unknown]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    for needle in ["`sizez`", "modes[0]", "`wavez`"] {
+        assert!(stderr.contains(needle), "{needle} missing: {stderr}");
+    }
+    assert_eq!(stderr.lines().count(), 3, "{stderr}");
 }
 
 /// Runs `oceanbench mesh` with `args`, its CSV written in `dir`: the header and the rows.
