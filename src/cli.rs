@@ -65,6 +65,10 @@ pub enum Command {
     Docs(DocsArgs),
     /// Collect the estimates a `cargo bench` run just wrote into results/bench-<name>-<UTC>/.
     BenchRecord(BenchRecordArgs),
+    /// Print the shell completion script for bash, zsh, fish, elvish or powershell.
+    Completions(CompletionsArgs),
+    /// Print the man page (roff), or write one page per command into a folder.
+    Man(ManArgs),
 }
 
 /// One flag per dimension of a cell (`--size`, `--mode`, `--sync`, ...), each taking a value or
@@ -517,6 +521,29 @@ pub struct DoctorArgs {
     /// Print the findings as JSON.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Flags of `oceanbench completions`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Examples:\n  oceanbench completions bash > ~/.local/share/bash-completion/completions/oceanbench\n  oceanbench completions zsh > ~/.zfunc/_oceanbench\n  oceanbench completions fish > ~/.config/fish/completions/oceanbench.fish"
+)]
+pub struct CompletionsArgs {
+    /// The shell to complete in.
+    #[arg(value_enum)]
+    pub shell: clap_complete::Shell,
+}
+
+/// Flags of `oceanbench man`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Examples:\n  oceanbench man | man -l -\n  oceanbench man --out ~/.local/share/man/man1"
+)]
+pub struct ManArgs {
+    /// Write oceanbench.1 and one oceanbench-<command>.1 per command into this existing folder
+    /// instead of printing the top page.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
 }
 
 /// Flags of `oceanbench placement`.

@@ -1010,3 +1010,39 @@ fn run_fits_the_normals_nobody_gave_to_the_cells_asked_for() {
         &["neighbors"],
     );
 }
+
+#[test]
+fn completions_and_man_pages_cover_every_command() {
+    use clap::CommandFactory;
+    let cli = oceanbench::cli::Cli::command();
+    let commands: Vec<String> = cli
+        .get_subcommands()
+        .map(|c| c.get_name().to_string())
+        .collect();
+    for shell in ["bash", "zsh", "fish"] {
+        let out = oceanbench(&["completions", shell]);
+        assert_success(&out);
+        let script = String::from_utf8_lossy(&out.stdout);
+        for name in &commands {
+            assert!(script.contains(name.as_str()), "{shell}: no {name}");
+        }
+        assert!(script.contains("--baseline"), "{shell}: flags completed");
+    }
+    let out = oceanbench(&["man"]);
+    assert_success(&out);
+    let page = String::from_utf8_lossy(&out.stdout);
+    assert!(page.starts_with(".ie") && page.contains(".TH oceanbench 1"), "{page}");
+    for name in &commands {
+        assert!(page.contains(&format!("oceanbench\\-{}(1)", name.replace('-', "\\-"))));
+    }
+
+    let dir = tempfile::tempdir().unwrap();
+    assert_success(&oceanbench(&["man", "--out", dir.path().to_str().unwrap()]));
+    for name in &commands {
+        let file = dir.path().join(format!("oceanbench-{name}.1"));
+        let text = std::fs::read_to_string(&file).unwrap();
+        assert!(text.contains(".SH SYNOPSIS"), "{}", file.display());
+    }
+    refuses(&["completions", "tcsh"], &["tcsh", "bash, elvish, fish"]);
+    refuses(&["man", "--out", "/nonexistent/man1"], &["--out", "/nonexistent/man1"]);
+}

@@ -13,6 +13,7 @@ mod mesh;
 mod placement;
 mod report;
 mod run;
+mod shell;
 mod sweep;
 
 use crate::affinity;
@@ -70,6 +71,8 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
         Command::Findings(args) => findings::findings(args),
         Command::Docs(args) => docs::docs(args),
         Command::BenchRecord(args) => bench_record::bench_record(args),
+        Command::Completions(args) => shell::completions(args),
+        Command::Man(args) => shell::man(args),
     }
 }
 
