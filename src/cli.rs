@@ -445,7 +445,7 @@ pub struct CompareArgs {
 /// Flags of `oceanbench latency`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "Examples:\n  oceanbench latency --cores 0,1 --samples 20000 --json latency.json\n  oceanbench latency --matrix"
+    after_help = "Writes results/latency-<UTC>/latency.json, which report, chart and compare read.\n\nExamples:\n  oceanbench latency\n  oceanbench latency --cores 0,1 --samples 20000 --repeats 10 --out results/latency-mine\n  oceanbench compare results/latency-a results/latency-b\n  oceanbench latency --matrix"
 )]
 pub struct LatencyArgs {
     /// The two cores, e.g. `0,1` (default: the first two allowed); with --matrix, the cores
@@ -456,10 +456,17 @@ pub struct LatencyArgs {
     /// does), each pair named near or far against the others.
     #[arg(long)]
     pub matrix: bool,
-    /// Round trips per row (each row also stops after 2 s).
+    /// Round trips per row and repeat (each row also stops after 2 s).
     #[arg(long, default_value_t = 20_000)]
     pub samples: usize,
-    /// Also write the rows as JSON to this file.
+    /// Times the whole table is measured, for the spread compare's verdicts need (1 to 100).
+    #[arg(long, default_value_t = crate::results::latency::DEFAULT_REPEATS)]
+    pub repeats: usize,
+    /// Results directory for latency.json and latency.txt (default: results/latency-<UTC
+    /// timestamp>); not with --matrix.
+    #[arg(long, conflicts_with = "matrix")]
+    pub out: Option<PathBuf>,
+    /// Also write the run (with --matrix, the matrix) as JSON to this file.
     #[arg(long)]
     pub json: Option<PathBuf>,
     /// Waiting for other runs on the same cores.

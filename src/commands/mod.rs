@@ -109,12 +109,14 @@ fn prepare_out_dir(dir: &Path) -> Result<Lock, CliError> {
     std::fs::create_dir_all(dir)
         .map_err(|e| InputError(format!("--out: cannot create {}: {e}", dir.display())))?;
     let lock = lock_out_dir(dir, "--out")?;
-    if dir.join("results.json").exists() {
-        return Err(InputError(format!(
-            "--out: {} already holds results.json; choose another directory",
-            dir.display()
-        ))
-        .into());
+    for file in ["results.json", crate::results::latency::FILE_NAME] {
+        if dir.join(file).exists() {
+            return Err(InputError(format!(
+                "--out: {} already holds {file}; choose another directory",
+                dir.display()
+            ))
+            .into());
+        }
     }
     Ok(lock)
 }

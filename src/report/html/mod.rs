@@ -10,9 +10,12 @@ use super::chart::{self, ChartError, ChartOptions, NothingToDraw};
 use super::compare::{Comparison, Verdict};
 use super::markdown::{self, Table, MIXED, NOISY, UNEXPLAINED};
 use crate::cell::{Dim, Value};
-use crate::machine::Tree;
+use crate::machine::{Machine, Tree};
 use crate::results::{Cell, Results};
 use maud::{html, Markup, PreEscaped, DOCTYPE};
+
+mod latency;
+pub use latency::latency_page;
 
 const STYLE: &str = include_str!("report.css");
 
@@ -220,23 +223,10 @@ fn what_was_run(results: &Results) -> Markup {
         }
         h3 { "Machine" }
         dl.facts {
-            dt { "CPU" } dd { (machine.cpu_model) }
-            dt { "cores" } dd {
-                (machine.logical_cores) " logical, allowed "
-                (crate::affinity::list(&machine.allowed_cores))
-            }
-            dt { "OS, kernel" } dd { (machine.os) ", kernel " (machine.kernel) }
+            (machine_facts(machine))
             dt { "governor" } dd { (or_missing((!governor.is_empty()).then(|| governor.join("; ")))) }
             dt { "cross-core round trip" } dd { (or_missing(markdown::round_trip(results))) }
             dt { "placement" } dd { (or_missing(markdown::placement_line(results))) }
-            dt { "build" } dd {
-                "oceanbench " (machine.oceanbench_version) ", " (machine.build_profile) ", "
-                (machine.rustc)
-            }
-            dt { "source" } dd {
-                @if let Tree::Dirty { .. } = machine.tree() { strong { (machine.provenance_line()) } }
-                @else { (machine.provenance_line()) }
-            }
         }
         h3 id="noise-warnings" { "Noise warnings" }
         @let warnings = warnings(results);
@@ -246,6 +236,26 @@ fn what_was_run(results: &Results) -> Markup {
                 @else { "doctor's checks were " span.missing { (NOT_RECORDED) } "." } }
         } @else {
             ul.warnings { @for w in &warnings { li { (w) } } }
+        }
+    }
+}
+
+/// What every run records of its machine: CPU, cores, OS, build and source, as `dt`/`dd` pairs.
+fn machine_facts(machine: &Machine) -> Markup {
+    html! {
+        dt { "CPU" } dd { (machine.cpu_model) }
+        dt { "cores" } dd {
+            (machine.logical_cores) " logical, allowed "
+            (crate::affinity::list(&machine.allowed_cores))
+        }
+        dt { "OS, kernel" } dd { (machine.os) ", kernel " (machine.kernel) }
+        dt { "build" } dd {
+            "oceanbench " (machine.oceanbench_version) ", " (machine.build_profile) ", "
+            (machine.rustc)
+        }
+        dt { "source" } dd {
+            @if let Tree::Dirty { .. } = machine.tree() { strong { (machine.provenance_line()) } }
+            @else { (machine.provenance_line()) }
         }
     }
 }
@@ -393,7 +403,7 @@ fn comparison(b: &Baseline) -> Markup {
         h2 id="comparison" { "Against the baseline" }
         p { "This run against " code { (b.name) } ", cell by cell: " (c.summary_line()) "." }
         p.note {
-            "Each change is the change of the mean trial FPS with its 95 % interval (bootstrap); "
+            "Each change is the change of the mean " (c.metric.unit()) " over trials (or repeats) with its 95 % interval (bootstrap); "
             "a change counts only when its whole interval clears the threshold."
         }
         @if !c.warnings.is_empty() {
