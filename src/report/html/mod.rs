@@ -335,7 +335,11 @@ fn frame_metrics(results: &Results) -> Table {
         "1 % low integral (FPS)",
     ];
     let row = |c: &Cell| -> Vec<String> {
-        let mut row = vec![c.key.label_without(&skip)];
+        let mut row = vec![format!(
+            "{}{}",
+            c.key.label_without(&skip),
+            markdown::marks(c)
+        )];
         let Some(s) = &c.summary else {
             row.push(format!(
                 "failed: {}",
@@ -367,15 +371,40 @@ fn frame_metrics(results: &Results) -> Table {
         },
         header: header.map(String::from).to_vec(),
         numeric: header.map(|h| h != "cell").to_vec(),
-        rows: results.cells.iter().map(row).collect(),
-        notes: vec![
-            "P1: 1000 ÷ the 99th percentile frame time; 1 % low average: 1000 ÷ the mean of the frames at or above it; 1 % low integral: the frame time at which the slowest frames reach 1 % of the total time (docs/methodology.md).".into(),
-        ],
+        rows: markdown::reading_order(results).into_iter().map(row).collect(),
+        notes: [
+            "Rows by size, workload, then mode; a cell's marks as in the FPS tables.".to_string(),
+        ]
+        .into_iter()
+        .chain(markdown::label_legend(results))
+        .chain(["P1: 1000 ÷ the 99th percentile frame time; 1 % low average: 1000 ÷ the mean of the frames at or above it; 1 % low integral: the frame time at which the slowest frames reach 1 % of the total time (docs/methodology.md).".to_string()])
+        .collect(),
     }
 }
 
-/// A table with its heading as caption, numbers right-aligned, notes under it.
+/// Rows above which a table starts collapsed: a reader opens it, rather than scrolling past it
+/// to the sections after it.
+const COLLAPSED_ROWS: usize = 40;
+
+/// A table with its heading as caption, numbers right-aligned, notes under it; one of more than
+/// [`COLLAPSED_ROWS`] rows is collapsed under its title.
 fn table(t: &Table) -> Markup {
+    let grid = table_grid(t);
+    html! {
+        @if t.rows.len() > COLLAPSED_ROWS {
+            details.long-table {
+                summary { (t.title) " (" (t.rows.len()) " rows)" }
+                (grid)
+            }
+        } @else {
+            (grid)
+        }
+        @for n in &t.notes { p.note { (n) } }
+    }
+}
+
+/// The table itself, in a box that scrolls sideways on a narrow screen.
+fn table_grid(t: &Table) -> Markup {
     let class = |i: usize| t.numeric.get(i).copied().unwrap_or(false);
     html! {
         div.scroll {
@@ -389,7 +418,6 @@ fn table(t: &Table) -> Markup {
                 }
             }
         }
-        @for n in &t.notes { p.note { (n) } }
     }
 }
 
