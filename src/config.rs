@@ -9,7 +9,6 @@ pub use crate::machine::available_memory;
 use crate::ocean::{self, mesh, FftParams, Grid, Mesh, OceanParams, Wave, WaveSet};
 use crate::suggest;
 use crate::workload::{self, KindParams, WorkloadKind};
-use itertools::Itertools;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -31,6 +30,10 @@ pub struct SweepConfig {
     /// The swept lists, one per dimension of a cell, under their own keys.
     #[serde(flatten)]
     pub axes: Axes,
+    /// What reading the config chose that the user did not name (normals fitted to the cells),
+    /// for the command to say once; not part of the file.
+    #[serde(skip)]
+    pub notes: Vec<String>,
     /// Trials per cell.
     pub trials: u32,
     /// Frames thrown away before each trial.
@@ -81,6 +84,7 @@ pub struct SweepConfig {
 impl Default for SweepConfig {
     fn default() -> Self {
         SweepConfig {
+            notes: Vec::new(),
             name: "figure-5-1".into(),
             description: String::new(),
             axes: Axes::default(),
@@ -153,15 +157,8 @@ fn parse_config(text: &str) -> Result<SweepConfig, InputError> {
             InputError(format!("{path}: {msg}"))
         }
     })?;
-    if !names_normals && !config.axes.ocean.is_empty() {
-        // Each listed model's own normals, rather than the paper's for a model that has better.
-        config.axes.normals = config
-            .axes
-            .ocean
-            .iter()
-            .map(|o| o.model().default_normals())
-            .unique()
-            .collect();
+    if !names_normals {
+        config.notes.extend(config.axes.fit_default_normals());
     }
     Ok(config)
 }

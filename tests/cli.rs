@@ -1117,6 +1117,25 @@ fn run_fits_the_normals_nobody_gave_to_the_cells_asked_for() {
 }
 
 #[test]
+fn a_config_naming_no_normals_gets_normals_its_cells_can_run() {
+    for (key, value) in [("grid", r#"["projected"]"#), ("helpers", "[2]")] {
+        let text = format!(r#"{{"sizes": [16], "ocean": ["sines"], "{key}": {value}}}"#);
+        let config = SweepConfig::from_json(&text).unwrap();
+        assert_eq!(config.axes.normals, vec![NormalMethod::Analytic], "{key}");
+        assert_eq!(config.notes.len(), 1, "said once: {:?}", config.notes);
+        assert!(config.notes[0].contains("the default (neighbors) cannot run these cells"));
+        // Named normals the cells cannot use are still refused.
+        let named = format!(r#"{{"sizes": [16], "normals": ["neighbors"], "{key}": {value}}}"#);
+        let e = SweepConfig::from_json(&named).unwrap_err().to_string();
+        assert!(e.contains("neighbors"), "{e}");
+    }
+    // A config the defaults fit says nothing.
+    let plain = SweepConfig::from_json(r#"{"sizes": [16]}"#).unwrap();
+    assert!(plain.notes.is_empty());
+    assert_eq!(plain.axes.normals, vec![NormalMethod::Neighbors]);
+}
+
+#[test]
 fn completions_and_man_pages_cover_every_command() {
     use clap::CommandFactory;
     let cli = oceanbench::cli::Cli::command();
