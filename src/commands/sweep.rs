@@ -65,7 +65,12 @@ fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf, Vec<Lock>)>, CliErr
             config.cores = Some(cores.clone());
         }
         config.validate()?;
-        for note in config.notes.iter().cloned().chain(crate::sweep::kind_skips(&config)) {
+        for note in config
+            .notes
+            .iter()
+            .cloned()
+            .chain(crate::sweep::kind_skips(&config))
+        {
             eprintln!("oceanbench: {note}");
         }
         let dir = args
