@@ -554,6 +554,20 @@ fn the_page_opens_with_the_verdict_and_links_every_section() {
     let shown: Vec<String> = doc.select(&sel("#findings li")).map(text).collect();
     assert_eq!(shown.len(), findings.len());
     assert!(!shown.is_empty() && shown[0] == findings[0].sentence);
+    let machine = text(doc.select(&sel("#verdict-machine")).next().unwrap());
+    assert!(machine.contains(&results.machine.cpu_model), "{machine}");
+    // A run of several slices heads each slice's findings with its values.
+    let mut fog = Results::load(&root().join("results/fog-20261125T163342Z")).unwrap();
+    oceanbench::findings::placement::label(&mut fog);
+    let fog_doc = page(&fog);
+    let headings: Vec<String> = fog_doc.select(&sel("#findings h3")).map(text).collect();
+    let fog_findings = oceanbench::findings::of(&fog);
+    let groups = fog_findings.grouped();
+    assert!(groups.len() >= 3, "two kinds and the run-wide findings");
+    let want: Vec<String> = groups.iter().filter_map(|(h, _)| h.clone()).collect();
+    assert_eq!(headings, want);
+    assert!(headings.iter().any(|h| h.contains("fog")), "{headings:?}");
+    assert_eq!(headings.last().map(String::as_str), Some("Across the run"));
     let links: Vec<String> = doc
         .select(&sel("#contents a"))
         .map(|a| a.value().attr("href").unwrap().to_string())

@@ -155,10 +155,15 @@ fn sections(balance: bool, baseline: bool) -> Vec<(&'static str, &'static str)> 
 /// What the run shows, first: with a baseline, how many cells improved or regressed against
 /// it; then the run's findings, each one sentence with its numbers and conditions.
 fn verdict(results: &Results, baseline: Option<&Baseline>) -> Markup {
-    let findings = crate::findings::of(results).findings;
+    let findings = crate::findings::of(results);
+    let machine = &results.machine;
     html! {
         section id="verdict" {
             h2 { "Verdict" }
+            p id="verdict-machine" {
+                (machine.cpu_model) ", " (machine.logical_cores) " logical cores; "
+                (or_missing(markdown::placement_line(results))) "; " (machine.provenance_line()) "."
+            }
             @if let Some(b) = baseline {
                 p id="verdict-baseline" {
                     (b.comparison.summary_line()) " "
@@ -172,10 +177,15 @@ fn verdict(results: &Results, baseline: Option<&Baseline>) -> Markup {
                     a href="#noise-warnings" { "read them" } " before trusting its numbers."
                 }
             }
-            @if findings.is_empty() {
+            @if findings.findings.is_empty() {
                 p.note { "No finding: the run holds no cell a finding compares." }
             } @else {
-                ul id="findings" { @for f in &findings { li { (f.sentence) } } }
+                div id="findings" {
+                    @for (heading, group) in findings.grouped() {
+                        @if let Some(h) = heading { h3.slice { (h) } }
+                        ul { @for f in group { li { (f.sentence) } } }
+                    }
+                }
             }
         }
     }
