@@ -17,6 +17,11 @@ pub(super) fn latency_vs_fps(
     let (_, workload) = focus.ok_or(NothingToDraw::new("no measured cell in the results"))?;
     let v = runs.variant()?;
     let depths = runs.counts(crate::cell::Dim::Depth);
+    if depths.len() < 2 {
+        return Err(NothingToDraw::new(
+            "the run measured one run-ahead depth: no latency traded for FPS to show",
+        ));
+    }
     let mut missing = Missing::default();
     let mut legend: Vec<Legend> = Vec::new();
     let mut panels = Vec::new();

@@ -468,7 +468,7 @@ fn bar_panel<DB: DrawingBackend>(
     let group_px = chart.plotting_area().dim_in_pixel().0 as f64 / n as f64;
     let fits = panel.groups.iter().try_fold(true, |fits, g| {
         let w = area.estimate_text_size(g, &font(15.0)).map_err(err)?.0 as f64;
-        Ok::<_, DrawError>(fits && w < group_px * 0.92)
+        Ok::<_, DrawError>(fits && !g.contains('\n') && w < group_px * 0.92)
     })?;
     // Group names too wide for their slot are drawn by hand below, broken after a hyphen.
     let x_fmt = |v: &f64| {
@@ -544,8 +544,8 @@ fn bar_panel<DB: DrawingBackend>(
     Ok(())
 }
 
-/// Draws each group's name centred under its slot, in two lines when it is too wide for one
-/// (broken after its first hyphen, else in the middle), in a smaller font.
+/// Draws each group's name centred under its slot, a line per `\n`, and a line in two when it
+/// is too wide for one (broken after its first hyphen, else in the middle), in a smaller font.
 fn group_labels<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     chart: &ChartContext<'_, DB, Cartesian2d<Categories, RangedCoordf64>>,
@@ -556,13 +556,20 @@ fn group_labels<DB: DrawingBackend>(
     let base = area.get_base_pixel();
     for (i, g) in groups.iter().enumerate() {
         let (x, y) = chart.backend_coord(&(i as f64, 0.0));
-        let width = area.estimate_text_size(g, &style).map_err(err)?.0 as f64;
-        let lines: Vec<String> = if width < group_px * 0.95 {
-            vec![g.clone()]
-        } else {
-            let at = g.find('-').map_or(g.len() / 2, |h| h + 1);
-            vec![g[..at].to_string(), g[at..].to_string()]
-        };
+        let mut lines: Vec<String> = Vec::new();
+        for part in g.split('\n') {
+            let width = area.estimate_text_size(part, &style).map_err(err)?.0 as f64;
+            if width < group_px * 0.95 {
+                lines.push(part.to_string());
+            } else {
+                let at = part.find('-').map_or(part.len() / 2, |h| h + 1);
+                let at = (0..=at)
+                    .rev()
+                    .find(|&i| part.is_char_boundary(i))
+                    .unwrap_or(0);
+                lines.extend([part[..at].to_string(), part[at..].to_string()]);
+            }
+        }
         for (k, line) in lines.into_iter().enumerate() {
             area.draw(&Text::new(
                 line,
