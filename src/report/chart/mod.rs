@@ -7,6 +7,7 @@
 mod balance;
 mod bars;
 mod frames;
+mod glyphs;
 mod latency;
 mod render;
 

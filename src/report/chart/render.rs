@@ -1,5 +1,6 @@
 //! Drawing the chart data with plotters, the same way for every backend.
 
+use super::glyphs::Glyphs;
 use super::{ChartError, ChartFormat};
 use plotters::chart::MeshStyle;
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged, ValueFormatter};
@@ -12,7 +13,7 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 const FONT: &str = "sans-serif";
-const FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
+pub(super) const FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
 const TEXT: RGBColor = RGBColor(0x20, 0x20, 0x20);
 const SUBTLE: RGBColor = RGBColor(0x50, 0x50, 0x50);
 const NOTE: RGBColor = RGBColor(0xa0, 0x1c, 0x1c);
@@ -186,7 +187,7 @@ pub(super) struct Chart {
 pub(super) fn write(chart: &Chart, path: &Path, format: ChartFormat) -> Result<(), ChartError> {
     let drawn = match format {
         ChartFormat::Png => draw(
-            &BitMapBackend::new(path, chart.size).into_drawing_area(),
+            &Glyphs::new(BitMapBackend::new(path, chart.size)).into_drawing_area(),
             chart,
         ),
         ChartFormat::Svg => draw(
