@@ -527,3 +527,21 @@ fn figure_5_1_and_the_speed_up_are_drawn_per_slice_titled_with_every_value() {
         }
     }
 }
+
+/// UP's breakdown bars are wall time on the one core both threads share, longer than the
+/// workload alone; the chart says so with both numbers.
+#[test]
+fn the_breakdown_says_why_ups_workload_bar_is_longer() {
+    let charts = chart::svgs(
+        &[committed("fog-20261125T163342Z")],
+        &ChartOptions::default(),
+    )
+    .unwrap();
+    let svg = charts.iter().find(|c| c.name == "breakdown").unwrap();
+    let text = texts_at(svg.drawn.as_ref().unwrap(), 16.0).join(" ");
+    assert!(text.contains("In UP both threads share one core"), "{text}");
+    assert!(
+        text.contains("where the workload alone (serial) takes"),
+        "{text}"
+    );
+}

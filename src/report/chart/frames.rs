@@ -171,6 +171,8 @@ pub(super) fn breakdown(
     let modes = runs.modes();
     let mut missing = Missing::default();
     let mut rows = vec![];
+    // The first UP row's workload part and serial's, to say why the first is the longer.
+    let (mut up_workload, mut serial_workload) = (None, None);
     for run in &runs.runs {
         for &mode in &modes {
             let methods: Vec<SyncMethod> = if mode == Mode::Serial {
@@ -184,6 +186,11 @@ pub(super) fn breakdown(
                     continue;
                 };
                 let b = &s.breakdown;
+                match mode {
+                    Mode::Up => up_workload = up_workload.or(Some(b.workload_ms)),
+                    Mode::Serial => serial_workload = serial_workload.or(Some(b.workload_ms)),
+                    Mode::Dp => {}
+                }
                 let (label, main, helper) = if mode == Mode::Serial {
                     (
                         "serial".to_string(),
@@ -239,6 +246,19 @@ pub(super) fn breakdown(
          the helper's step, which overlaps it. {}.",
         v.describe(false)
     ));
+    if let Some(up) = up_workload {
+        let alone = serial_workload.map_or(String::new(), |serial| {
+            format!(
+                ": UP's workload part is {} ms where the workload alone (serial) takes {} ms",
+                super::render::ms(up),
+                super::render::ms(serial)
+            )
+        });
+        lines.push(format!(
+            "In UP both threads share one core, so the main thread's parts are wall time that \
+             includes the helper's slices run inside them{alone}."
+        ));
+    }
     let height = CHART_SIZE.1.max(300 + 44 * rows.len() as u32);
     Ok(Chart {
         frame: Frame {
