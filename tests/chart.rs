@@ -37,34 +37,24 @@ fn file(files: &[PathBuf], name: &str) -> PathBuf {
         .clone()
 }
 
-/// The fixture's hand-off methods: with each way of running the helper (a pool thread or one
-/// spawned per frame), a slice with its own Figure 5-1 and speed-up chart.
-const METHODS: [&str; 6] = [
-    "atomic",
-    "spin",
-    "mutex",
-    "condvar",
-    "mutex-std",
-    "condvar-std",
-];
-
-/// The fixture's ways of running the helper.
-const THREADINGS: [&str; 2] = ["pool", "spawn"];
-
 /// The fixture's Figure 5-1 of the atomic hand-off to a pool thread.
 const FIGURE: &str = "figure-5-1-sync-atomic-threading-pool";
 
 /// The charts a results file from before run-ahead depth and balance searches can draw: Figure
-/// 5-1 and the speed-up once per slice.
+/// 5-1 and the speed-up once per slice, the fixture's methods with each way of running the
+/// helper (a pool thread, or one spawned per frame).
 fn old_charts() -> Vec<String> {
-    let per_slice = ["figure-5-1", "relative"].into_iter().flat_map(|c| {
-        METHODS
-            .into_iter()
-            .flat_map(move |m| THREADINGS.map(|t| format!("{c}-sync-{m}-threading-{t}")))
-    });
-    per_slice
-        .chain(["sync", "frame-times", "breakdown"].map(String::from))
-        .collect()
+    let axes = fixture().config.axes;
+    let mut charts = vec![];
+    for chart in ["figure-5-1", "relative"] {
+        for sync in &axes.sync {
+            for threading in &axes.threading {
+                charts.push(format!("{chart}-sync-{sync}-threading-{threading}"));
+            }
+        }
+    }
+    charts.extend(["sync", "frame-times", "breakdown"].map(String::from));
+    charts
 }
 
 #[test]

@@ -271,23 +271,21 @@ fn no_text_in_the_committed_runs_charts_overlaps_text_or_a_line() {
     for run in RUNS {
         all.extend(check(committed(run), run));
     }
+    assert_clear(&all);
+}
+
+fn assert_clear(collisions: &[String]) {
     assert!(
-        all.is_empty(),
+        collisions.is_empty(),
         "{} collisions:\n{}",
-        all.len(),
-        all.join("\n")
+        collisions.len(),
+        collisions.join("\n")
     );
 }
 
 #[test]
 fn no_text_in_the_fixture_charts_overlaps_text_or_a_line() {
-    let all = check(common::fixture(), "fixture");
-    assert!(
-        all.is_empty(),
-        "{} collisions:\n{}",
-        all.len(),
-        all.join("\n")
-    );
+    assert_clear(&check(common::fixture(), "fixture"));
 }
 
 /// The check itself: a label struck by a line and two labels on one spot are both caught.
