@@ -535,3 +535,21 @@ fn the_breakdown_says_why_ups_workload_bar_is_longer() {
         "{text}"
     );
 }
+
+/// A chart names the values it holds, not one value of a dimension it lays out: the run-ahead
+/// chart draws every depth and consumption, so its subtitle names neither.
+#[test]
+fn the_run_ahead_chart_does_not_name_one_depth() {
+    let run = committed("fft-spray-20261125T162607Z");
+    let charts = chart::svgs(&[run], &ChartOptions::default()).unwrap();
+    let svg = charts.iter().find(|c| c.name == "latency-vs-fps").unwrap();
+    let text = texts_at(svg.drawn.as_ref().unwrap(), 16.0).join(" ");
+    assert!(
+        text.contains("spray workload") && text.contains("fft ocean"),
+        "{text}"
+    );
+    assert!(
+        !text.contains("depth 1") && !text.contains("copy consume"),
+        "{text}"
+    );
+}

@@ -2,7 +2,7 @@
 
 use super::render::{Bar, BarPanel, BarPlot, Body, Chart, Frame, Legend, RefLine};
 use super::{mode_name, Missing, NothingToDraw, Runs, Variant, CHART_SIZE};
-use crate::cell::Mode;
+use crate::cell::{Dim, Mode};
 use crate::stats;
 use crate::summary::Summary;
 use plotters::style::RGBColor;
@@ -140,7 +140,7 @@ pub(super) fn figure_5_1(runs: &Runs, v: &Variant) -> Result<Chart, NothingToDra
         runs,
         format!(
             "Figure 5-1: frames per second by workload, serial vs UP vs DP; {}",
-            v.describe(true)
+            v.describe(&[])
         ),
         "Bars: all frames ÷ all seconds over the trials; error bars: slowest and fastest trial."
             .into(),
@@ -154,7 +154,7 @@ pub(super) fn figure_5_1(runs: &Runs, v: &Variant) -> Result<Chart, NothingToDra
             shared_y: false,
             format: fps,
         },
-        || format!("no measured cell with {}", v.describe(true)),
+        || format!("no measured cell with {}", v.describe(&[])),
     )
 }
 
@@ -220,7 +220,7 @@ pub(super) fn relative(runs: &Runs, v: &Variant) -> Result<Chart, NothingToDraw>
         runs,
         format!(
             "DP speed-up: DP ÷ UP and DP ÷ serial FPS; {}",
-            v.describe(true)
+            v.describe(&[])
         ),
         "Error bars: DP's slowest trial ÷ the other's fastest, and the reverse.".into(),
         legend,
@@ -236,7 +236,7 @@ pub(super) fn relative(runs: &Runs, v: &Variant) -> Result<Chart, NothingToDraw>
         || {
             format!(
                 "no DP cell with a UP or serial cell to divide by ({})",
-                v.describe(true)
+                v.describe(&[])
             )
         },
     )
@@ -333,7 +333,7 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
         runs,
         format!(
             "Hand-off methods: FPS in UP and DP at workload {workload}, and the CPU their waits burn; {}",
-            v.describe(false)
+            v.describe(&[Dim::Sync])
         ),
         format!(
             "{dashed}Error bars: slowest and fastest trial. Lower row: CPU time per frame the main thread and the helper spent waiting (a method that sleeps burns none)."
@@ -351,7 +351,7 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
         || {
             format!(
                 "no threaded cell at workload {workload} ({})",
-                v.describe(false)
+                v.describe(&[Dim::Sync])
             )
         },
     )?;

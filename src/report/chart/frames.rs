@@ -3,7 +3,7 @@
 use super::bars::shade;
 use super::render::{Body, Chart, Frame, Legend, LinePanel, LinePlot, Series, StackPlot, StackRow};
 use super::{mode_name, short_mode, sync_color, Missing, NothingToDraw, Runs, CHART_SIZE};
-use crate::cell::Mode;
+use crate::cell::{Dim, Mode};
 use crate::summary::{Summary, QUANTILES};
 use crate::sync::SyncMethod;
 use plotters::style::RGBColor;
@@ -124,7 +124,7 @@ pub(super) fn frame_times(
          median, p99, mean of the slowest 1% (from the 1% low) and max; the mean stands apart."
             .into()
     });
-    lines.push(format!("{}.", v.describe(false)));
+    lines.push(format!("{}.", v.describe(&[Dim::Sync])));
     Ok(Chart {
         frame: Frame {
             title: format!(
@@ -244,7 +244,7 @@ pub(super) fn breakdown(
     lines.push(format!(
         "Mean per frame. The upper bar is the main thread's frame; in UP and DP the lower bar is \
          the helper's step, which overlaps it. {}.",
-        v.describe(false)
+        v.describe(&[Dim::Sync])
     ));
     if let Some(up) = up_workload {
         let alone = serial_workload.map_or(String::new(), |serial| {

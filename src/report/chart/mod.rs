@@ -337,12 +337,13 @@ impl Variant {
         }
     }
 
-    /// Every held value, defaults included, as titles name them (the method too when
-    /// `with_sync`): a reader must be able to tell two slices' charts apart by their titles.
-    fn describe(&self, with_sync: bool) -> String {
+    /// Every held value, defaults included, as titles name them, but those of the dimensions
+    /// the chart lays out besides size, workload and mode (`also`): a reader must be able to
+    /// tell two slices' charts apart by their titles.
+    fn describe(&self, also: &[Dim]) -> String {
         Dim::ALL
             .iter()
-            .filter(|&&d| !LAID_OUT.contains(&d) && (with_sync || d != Dim::Sync))
+            .filter(|&&d| !LAID_OUT.contains(&d) && !also.contains(&d))
             .filter_map(|&d| Some(d.title(self.template.get(d)?)))
             .join(", ")
     }
