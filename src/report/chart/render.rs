@@ -316,7 +316,9 @@ fn frame<DB: DrawingBackend>(
             ))
             .map_err(err)?;
         }
-        root.draw_text(&entry.name, &legend, (x + mark + 6, y))
+        // Three pixels down centres the capitals (0.76 em from the top to the baseline) on the
+        // 17-pixel mark.
+        root.draw_text(&entry.name, &legend, (x + mark + 6, y + 3))
             .map_err(err)?;
         x += width + 30;
     }
