@@ -8,6 +8,6 @@ log=$(mktemp)
 target/release/oceanbench sweep configs/figure-5-1.json "$@" | tee "$log"
 dir=$(sed -n "s/^Results: //p" "$log" | tail -n 1)
 echo
-echo "Figure 5-1 chart: $dir/figure-5-1.png (and .svg)"
-echo "Other charts:     $dir/{relative,sync,frame-times,breakdown}.{png,svg}"
-echo "Tables:           $dir/results.md, $dir/results.csv, $dir/results.json"
+echo "Figure 5-1 charts: $dir/figure-5-1-sync-{atomic,mutex,condvar}.{png,svg} (one per method)"
+echo "Other charts:      $dir/relative-sync-*.{png,svg}, $dir/{sync,frame-times,breakdown}.{png,svg}"
+echo "Tables:            $dir/results.md, $dir/results.csv, $dir/results.json"

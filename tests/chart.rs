@@ -37,8 +37,25 @@ fn file(files: &[PathBuf], name: &str) -> PathBuf {
         .clone()
 }
 
-/// The charts a results file from before run-ahead depth and balance searches can draw.
-const OLD_CHARTS: [&str; 5] = ["figure-5-1", "relative", "sync", "frame-times", "breakdown"];
+/// The fixture's Figure 5-1 of the atomic hand-off to a pool thread.
+const FIGURE: &str = "figure-5-1-sync-atomic-threading-pool";
+
+/// The charts a results file from before run-ahead depth and balance searches can draw: Figure
+/// 5-1 and the speed-up once per slice, the fixture's methods with each way of running the
+/// helper (a pool thread, or one spawned per frame).
+fn old_charts() -> Vec<String> {
+    let axes = fixture().config.axes;
+    let mut charts = vec![];
+    for chart in ["figure-5-1", "relative"] {
+        for sync in &axes.sync {
+            for threading in &axes.threading {
+                charts.push(format!("{chart}-sync-{sync}-threading-{threading}"));
+            }
+        }
+    }
+    charts.extend(["sync", "frame-times", "breakdown"].map(String::from));
+    charts
+}
 
 #[test]
 fn fixture_charts_every_chart_in_both_formats() {
@@ -49,18 +66,21 @@ fn fixture_charts_every_chart_in_both_formats() {
     };
     let drawn = chart::draw_with(&[fixture()], dir.path(), &options).unwrap();
     let files = drawn.files;
-    assert_eq!(files.len(), OLD_CHARTS.len() * 2);
-    let skipped: Vec<&str> = drawn.skipped.iter().map(|s| s.chart).collect();
+    assert_eq!(files.len(), old_charts().len() * 2);
+    let skipped: Vec<&str> = drawn.skipped.iter().map(|s| s.chart.as_str()).collect();
     assert_eq!(skipped, ["latency-vs-fps", "balance"]);
     assert!(drawn.skipped[0].reason.contains("latency"));
     assert!(drawn.skipped[1].reason.contains("balance"));
-    for name in OLD_CHARTS {
+    for name in old_charts() {
         let (w, h) = png_size(&file(&files, &format!("{name}.png")));
         assert_eq!(w, CHART_SIZE.0, "{name}");
         assert!(h >= CHART_SIZE.1, "{name}");
         svg_text(&file(&files, &format!("{name}.svg")));
     }
-    assert_eq!(png_size(&file(&files, "figure-5-1.png")), CHART_SIZE);
+    assert_eq!(
+        png_size(&file(&files, &format!("{FIGURE}.png"))),
+        CHART_SIZE
+    );
 }
 
 #[test]
@@ -70,7 +90,7 @@ fn svgs_name_every_series_and_the_machine() {
     assert!(files.iter().all(|f| f.extension().unwrap() == "svg"));
     let expect: [(&str, &[&str]); 5] = [
         (
-            "figure-5-1",
+            FIGURE,
             &[
                 "serial",
                 "UP (1 core)",
@@ -79,7 +99,16 @@ fn svgs_name_every_series_and_the_machine() {
                 "40×40 mesh",
             ],
         ),
-        ("relative", &["DP ÷ UP", "DP ÷ serial", "ideal 2.0"]),
+        (
+            "relative-sync-mutex-threading-spawn",
+            &[
+                "DP ÷ UP",
+                "DP ÷ serial",
+                "ideal 2.0",
+                "mutex hand-off",
+                "spawn helper",
+            ],
+        ),
         (
             "sync",
             &[
@@ -144,11 +173,14 @@ fn missing_cells_still_chart_and_are_named() {
         &[ChartFormat::Png, ChartFormat::Svg],
     )
     .unwrap();
-    assert_eq!(files.len(), OLD_CHARTS.len() * 2);
-    let figure = svg_text(&file(&files, "figure-5-1.svg"));
+    assert_eq!(files.len(), old_charts().len() * 2);
+    let figure = svg_text(&file(&files, &format!("{FIGURE}.svg")));
     assert!(figure.contains("missing"), "{figure}");
     assert!(figure.contains("40×40 w0 DP"), "{figure}");
-    assert_eq!(png_size(&file(&files, "figure-5-1.png")), CHART_SIZE);
+    assert_eq!(
+        png_size(&file(&files, &format!("{FIGURE}.png"))),
+        CHART_SIZE
+    );
 }
 
 #[test]
@@ -163,7 +195,7 @@ fn failed_cells_are_named_as_failed() {
     cell.error = Some("hand-off timed out".into());
     let dir = tempfile::tempdir().unwrap();
     let files = chart::draw(&[results], dir.path(), &[ChartFormat::Svg]).unwrap();
-    let text = svg_text(&file(&files, "figure-5-1.svg"));
+    let text = svg_text(&file(&files, &format!("{FIGURE}.svg")));
     assert!(text.contains("40×40 w2 UP atomic (failed)"), "{text}");
 }
 
@@ -185,7 +217,7 @@ fn two_runs_side_by_side_are_labelled_by_run() {
     b.config.name = "second".into();
     let dir = tempfile::tempdir().unwrap();
     let files = chart::draw(&[a, b], dir.path(), &[ChartFormat::Svg]).unwrap();
-    let text = svg_text(&file(&files, "figure-5-1.svg"));
+    let text = svg_text(&file(&files, &format!("{FIGURE}.svg")));
     for s in [
         "quick: UP (1 core)",
         "second: DP (2 cores)",
@@ -328,4 +360,196 @@ fn the_sync_chart_shows_only_what_the_run_has() {
         assert!(!frames.contains("triple-buffer"), "{frames}");
         assert!(!frames.contains("missing"), "{frames}");
     }
+}
+
+/// A committed run's results, as `oceanbench chart RUN` reads them.
+fn committed(run: &str) -> oceanbench::results::Results {
+    let path = common::root()
+        .join("results")
+        .join(run)
+        .join("results.json");
+    oceanbench::results::Results::load(&path).unwrap()
+}
+
+/// The texts of an SVG chart drawn at `size` px (plotters' size; the SVG's font-size is that
+/// ÷ 1.24), in drawing order.
+fn texts_at(svg: &str, size: f64) -> Vec<String> {
+    let doc = roxmltree::Document::parse(svg).unwrap();
+    doc.descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter(|n| {
+            n.attribute("font-size")
+                .and_then(|f| f.parse::<f64>().ok())
+                .is_some_and(|f| (f * 1.24 - size).abs() < 0.01)
+        })
+        .filter_map(|n| Some(n.text()?.trim().to_string()))
+        .collect()
+}
+
+/// The chart's title, its wrapped lines joined.
+fn title(svg: &str) -> String {
+    texts_at(svg, 26.0).join(" ")
+}
+
+/// The colours its bars and legend boxes are filled with: one per series.
+fn series(svg: &str) -> usize {
+    let doc = roxmltree::Document::parse(svg).unwrap();
+    let mut fills: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("rect"))
+        .filter_map(|n| n.attribute("fill"))
+        .filter(|f| *f != "#FFFFFF")
+        .collect();
+    fills.sort_unstable();
+    fills.dedup();
+    fills.len()
+}
+
+/// Figure 5-1 and the speed-up of each slice of a committed run: the slice's part of the file
+/// stem, the values its title must name and the unit its workload axis must name; and the
+/// charts the run has nothing to show in.
+struct Expect {
+    run: &'static str,
+    slices: &'static [(&'static str, &'static [&'static str], &'static str)],
+    skipped: &'static [&'static str],
+}
+
+#[test]
+fn figure_5_1_and_the_speed_up_are_drawn_per_slice_titled_with_every_value() {
+    // Values every title names though they are the defaults.
+    let defaults = ["fifo policy", "pool helper", "reference kernel"];
+    let cases = [
+        Expect {
+            run: "fog-20261125T163342Z",
+            slices: &[
+                (
+                    "workload_kind-synthetic",
+                    &["synthetic workload", "regular grid"],
+                    "µs",
+                ),
+                (
+                    "workload_kind-fog",
+                    &["fog workload", "atomic hand-off"],
+                    "voxels",
+                ),
+            ],
+            skipped: &["sync", "latency-vs-fps", "balance"],
+        },
+        Expect {
+            run: "fft-spray-20261125T162607Z",
+            slices: &[
+                (
+                    "helpers-1-depth-1-consume-copy",
+                    &["1 helpers", "depth 1", "copy consume"],
+                    "particles",
+                ),
+                (
+                    "helpers-2-depth-2-consume-handle",
+                    &["2 helpers", "depth 2", "handle consume"],
+                    "particles",
+                ),
+                (
+                    "helpers-2-depth-1-consume-copy",
+                    &["2 helpers", "depth 1", "fft ocean"],
+                    "particles",
+                ),
+            ],
+            skipped: &["sync", "balance"],
+        },
+        Expect {
+            run: "projected-20261125T163816Z",
+            slices: &[
+                ("grid-regular", &["regular grid", "analytic normals"], "µs"),
+                (
+                    "grid-projected",
+                    &["projected grid", "synthetic workload"],
+                    "µs",
+                ),
+            ],
+            skipped: &["sync", "latency-vs-fps"],
+        },
+        Expect {
+            run: "figure-5-1-20261125T064618Z",
+            slices: &[
+                ("sync-atomic", &["atomic hand-off"], "µs"),
+                ("sync-mutex", &["mutex hand-off"], "µs"),
+                ("sync-condvar", &["condvar hand-off"], "µs"),
+            ],
+            skipped: &["latency-vs-fps", "balance"],
+        },
+    ];
+    for case in cases {
+        let charts = chart::svgs(&[committed(case.run)], &ChartOptions::default()).unwrap();
+        let run = case.run;
+        for (chart, count) in [("figure-5-1", 3), ("relative", 2)] {
+            let drawn: Vec<&str> = charts
+                .iter()
+                .filter(|c| c.chart == chart)
+                .map(|c| c.name.as_str())
+                .collect();
+            assert!(drawn.len() >= case.slices.len(), "{run}: {drawn:?}");
+            for (slice, values, unit) in case.slices {
+                let name = format!("{chart}-{slice}");
+                let svg = charts
+                    .iter()
+                    .find(|c| c.name == name)
+                    .unwrap_or_else(|| panic!("{run}: no {name} in {drawn:?}"));
+                let svg = svg.drawn.as_ref().unwrap();
+                let title = title(svg);
+                for v in values.iter().chain(&defaults) {
+                    assert!(
+                        title.contains(v),
+                        "{run} {name}: title {title:?} lacks {v:?}"
+                    );
+                }
+                assert_eq!(series(svg), count, "{run} {name}: series");
+                let axes = texts_at(svg, 17.0);
+                let workload = axes.iter().find(|a| a.starts_with("workload level"));
+                assert!(
+                    workload.is_some_and(|a| a.contains(unit)),
+                    "{run} {name}: no workload axis in {unit}: {axes:?}"
+                );
+            }
+        }
+        for name in case.skipped {
+            let c = charts.iter().find(|c| c.name == *name).unwrap();
+            assert!(c.drawn.is_err(), "{run}: {name} has nothing to show");
+        }
+    }
+}
+
+/// UP's breakdown bars are wall time on the one core both threads share, longer than the
+/// workload alone; the chart says so with both numbers.
+#[test]
+fn the_breakdown_says_why_ups_workload_bar_is_longer() {
+    let charts = chart::svgs(
+        &[committed("fog-20261125T163342Z")],
+        &ChartOptions::default(),
+    )
+    .unwrap();
+    let svg = charts.iter().find(|c| c.name == "breakdown").unwrap();
+    let text = texts_at(svg.drawn.as_ref().unwrap(), 16.0).join(" ");
+    assert!(text.contains("In UP both threads share one core"), "{text}");
+    assert!(
+        text.contains("where the workload alone (serial) takes"),
+        "{text}"
+    );
+}
+
+/// A chart names the values it holds, not one value of a dimension it lays out: the run-ahead
+/// chart draws every depth and consumption, so its subtitle names neither.
+#[test]
+fn the_run_ahead_chart_does_not_name_one_depth() {
+    let run = committed("fft-spray-20261125T162607Z");
+    let charts = chart::svgs(&[run], &ChartOptions::default()).unwrap();
+    let svg = charts.iter().find(|c| c.name == "latency-vs-fps").unwrap();
+    let text = texts_at(svg.drawn.as_ref().unwrap(), 16.0).join(" ");
+    assert!(
+        text.contains("spray workload") && text.contains("fft ocean"),
+        "{text}"
+    );
+    assert!(
+        !text.contains("depth 1") && !text.contains("copy consume"),
+        "{text}"
+    );
 }

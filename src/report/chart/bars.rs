@@ -1,8 +1,8 @@
 //! The grouped-bar charts: Figure 5-1, DP ÷ UP and the hand-off methods.
 
 use super::render::{Bar, BarPanel, BarPlot, Body, Chart, Frame, Legend, RefLine};
-use super::{mode_name, Missing, NothingToDraw, Runs, CHART_SIZE};
-use crate::cell::Mode;
+use super::{mode_name, Missing, NothingToDraw, Runs, Variant, CHART_SIZE};
+use crate::cell::{Dim, Mode};
 use crate::stats;
 use crate::summary::Summary;
 use plotters::style::RGBColor;
@@ -101,9 +101,8 @@ fn bar_chart(
     })
 }
 
-/// Figure 5-1: FPS per workload, one panel per mesh size, serial / UP / DP bars.
-pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, NothingToDraw> {
-    let v = runs.variant()?;
+/// Figure 5-1 of one slice: FPS per workload, one panel per mesh size, serial / UP / DP bars.
+pub(super) fn figure_5_1(runs: &Runs, v: &Variant) -> Result<Chart, NothingToDraw> {
     let modes = runs.modes();
     let workloads = runs.workloads();
     let mut missing = Missing::default();
@@ -128,7 +127,10 @@ pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, NothingToDraw> {
         if !bars.is_empty() {
             panels.push(BarPanel {
                 caption: size_caption(size),
-                groups: workloads.iter().map(|w| format!("workload {w}")).collect(),
+                groups: workloads
+                    .iter()
+                    .map(|&w| runs.level_tick(v, size, w))
+                    .collect(),
                 bars,
                 refs: vec![],
             });
@@ -137,30 +139,27 @@ pub(super) fn figure_5_1(runs: &Runs) -> Result<Chart, NothingToDraw> {
     bar_chart(
         runs,
         format!(
-            "Figure 5-1: frames per second by workload, serial vs UP vs DP ({} hand-off)",
-            v.sync().name()
+            "Figure 5-1: frames per second by workload, serial vs UP vs DP; {}",
+            v.describe(&[])
         ),
-        format!(
-            "Bars: all frames ÷ all seconds over the trials; error bars: slowest and fastest trial. {}.",
-            v.describe(true)
-        ),
+        "Bars: all frames ÷ all seconds over the trials; error bars: slowest and fastest trial."
+            .into(),
         legend,
         missing,
         BarPlot {
             panels,
             slots,
-            x_desc: "workload level (synthetic main-thread work per frame)".into(),
+            x_desc: runs.workload_axis(v),
             y_desc: "frames per second (FPS)".into(),
             shared_y: false,
             format: fps,
         },
-        || format!("no measured cell with {}", v.describe(true)),
+        || format!("no measured cell with {}", v.describe(&[])),
     )
 }
 
-/// DP ÷ UP and DP ÷ serial per workload, one panel per size, with the ideal 2.0.
-pub(super) fn relative(runs: &Runs) -> Result<Chart, NothingToDraw> {
-    let v = runs.variant()?;
+/// DP ÷ UP and DP ÷ serial per workload in one slice, one panel per size, with the ideal 2.0.
+pub(super) fn relative(runs: &Runs, v: &Variant) -> Result<Chart, NothingToDraw> {
     let workloads = runs.workloads();
     let pairs = [(Mode::Up, "DP ÷ UP"), (Mode::Serial, "DP ÷ serial")];
     let colors = [RGBColor(0x00, 0x72, 0xb2), RGBColor(0x00, 0x9e, 0x73)];
@@ -199,7 +198,10 @@ pub(super) fn relative(runs: &Runs) -> Result<Chart, NothingToDraw> {
         if !bars.is_empty() {
             panels.push(BarPanel {
                 caption: size_caption(size),
-                groups: workloads.iter().map(|w| format!("workload {w}")).collect(),
+                groups: workloads
+                    .iter()
+                    .map(|&w| runs.level_tick(v, size, w))
+                    .collect(),
                 bars,
                 refs: vec![
                     RefLine {
@@ -217,19 +219,16 @@ pub(super) fn relative(runs: &Runs) -> Result<Chart, NothingToDraw> {
     bar_chart(
         runs,
         format!(
-            "DP speed-up: DP ÷ UP and DP ÷ serial FPS ({} hand-off)",
-            v.sync().name()
+            "DP speed-up: DP ÷ UP and DP ÷ serial FPS; {}",
+            v.describe(&[])
         ),
-        format!(
-            "Error bars: DP's slowest trial ÷ the other's fastest, and the reverse. {}.",
-            v.describe(true)
-        ),
+        "Error bars: DP's slowest trial ÷ the other's fastest, and the reverse.".into(),
         legend,
         missing,
         BarPlot {
             panels,
             slots: runs.runs.len() * pairs.len(),
-            x_desc: "workload level".into(),
+            x_desc: runs.workload_axis(v),
             y_desc: "FPS ratio (×)".into(),
             shared_y: true,
             format: ratio,
@@ -237,7 +236,7 @@ pub(super) fn relative(runs: &Runs) -> Result<Chart, NothingToDraw> {
         || {
             format!(
                 "no DP cell with a UP or serial cell to divide by ({})",
-                v.describe(true)
+                v.describe(&[])
             )
         },
     )
@@ -247,6 +246,12 @@ pub(super) fn relative(runs: &Runs) -> Result<Chart, NothingToDraw> {
 pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
     let v = runs.variant()?;
     let syncs = runs.syncs(&v);
+    if syncs.len() < 2 {
+        return Err(NothingToDraw(format!(
+            "the run measured one hand-off method ({})",
+            v.sync().name()
+        )));
+    }
     let workload = *runs
         .workloads()
         .last()
@@ -326,10 +331,12 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
     let slots = runs.runs.len() * modes.len();
     let mut chart = bar_chart(
         runs,
-        format!("Hand-off methods: FPS in UP and DP at workload {workload}, and the CPU their waits burn"),
         format!(
-            "{dashed}Error bars: slowest and fastest trial. Lower row: CPU time per frame the main thread and the helper spent waiting (a method that sleeps burns none). {}.",
-            v.describe(false)
+            "Hand-off methods: FPS in UP and DP at workload {workload}, and the CPU their waits burn; {}",
+            v.describe(&[Dim::Sync])
+        ),
+        format!(
+            "{dashed}Error bars: slowest and fastest trial. Lower row: CPU time per frame the main thread and the helper spent waiting (a method that sleeps burns none)."
         ),
         legend,
         missing,
@@ -344,7 +351,7 @@ pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
         || {
             format!(
                 "no threaded cell at workload {workload} ({})",
-                v.describe(false)
+                v.describe(&[Dim::Sync])
             )
         },
     )?;

@@ -3,7 +3,7 @@
 use super::bars::shade;
 use super::render::{Body, Chart, Frame, Legend, LinePanel, LinePlot, Series, StackPlot, StackRow};
 use super::{mode_name, short_mode, sync_color, Missing, NothingToDraw, Runs, CHART_SIZE};
-use crate::cell::Mode;
+use crate::cell::{Dim, Mode};
 use crate::summary::{Summary, QUANTILES};
 use crate::sync::SyncMethod;
 use plotters::style::RGBColor;
@@ -124,7 +124,7 @@ pub(super) fn frame_times(
          median, p99, mean of the slowest 1% (from the 1% low) and max; the mean stands apart."
             .into()
     });
-    lines.push(format!("{}.", v.describe(false)));
+    lines.push(format!("{}.", v.describe(&[Dim::Sync])));
     Ok(Chart {
         frame: Frame {
             title: format!(
@@ -171,6 +171,8 @@ pub(super) fn breakdown(
     let modes = runs.modes();
     let mut missing = Missing::default();
     let mut rows = vec![];
+    // The first UP row's workload part and serial's, to say why the first is the longer.
+    let (mut up_workload, mut serial_workload) = (None, None);
     for run in &runs.runs {
         for &mode in &modes {
             let methods: Vec<SyncMethod> = if mode == Mode::Serial {
@@ -184,6 +186,11 @@ pub(super) fn breakdown(
                     continue;
                 };
                 let b = &s.breakdown;
+                match mode {
+                    Mode::Up => up_workload = up_workload.or(Some(b.workload_ms)),
+                    Mode::Serial => serial_workload = serial_workload.or(Some(b.workload_ms)),
+                    Mode::Dp => {}
+                }
                 let (label, main, helper) = if mode == Mode::Serial {
                     (
                         "serial".to_string(),
@@ -237,8 +244,21 @@ pub(super) fn breakdown(
     lines.push(format!(
         "Mean per frame. The upper bar is the main thread's frame; in UP and DP the lower bar is \
          the helper's step, which overlaps it. {}.",
-        v.describe(false)
+        v.describe(&[Dim::Sync])
     ));
+    if let Some(up) = up_workload {
+        let alone = serial_workload.map_or(String::new(), |serial| {
+            format!(
+                ": UP's workload part is {} ms where the workload alone (serial) takes {} ms",
+                super::render::ms(up),
+                super::render::ms(serial)
+            )
+        });
+        lines.push(format!(
+            "In UP both threads share one core, so the main thread's parts are wall time that \
+             includes the helper's slices run inside them{alone}."
+        ));
+    }
     let height = CHART_SIZE.1.max(300 + 44 * rows.len() as u32);
     Ok(Chart {
         frame: Frame {

@@ -4,7 +4,7 @@
 use super::bars::shade;
 use super::render::{Body, Chart, Frame, Legend, Trace, TracePanel, TracePlot};
 use super::{mode_name, sync_color, Missing, NothingToDraw, Runs, CHART_SIZE};
-use crate::cell::{Consume, Mode};
+use crate::cell::{Consume, Dim, Mode};
 use strum::VariantArray;
 
 /// FPS against input-to-consume latency at the focus workload: UP panels in the top row, DP
@@ -17,6 +17,11 @@ pub(super) fn latency_vs_fps(
     let (_, workload) = focus.ok_or(NothingToDraw::new("no measured cell in the results"))?;
     let v = runs.variant()?;
     let depths = runs.counts(crate::cell::Dim::Depth);
+    if depths.len() < 2 {
+        return Err(NothingToDraw::new(
+            "the run measured one run-ahead depth: no latency traded for FPS to show",
+        ));
+    }
     let mut missing = Missing::default();
     let mut legend: Vec<Legend> = Vec::new();
     let mut panels = Vec::new();
@@ -81,7 +86,7 @@ pub(super) fn latency_vs_fps(
     let mut lines = runs.machine_lines();
     lines.push(format!(
         "Each line joins one method and consumption over run-ahead depths d1, d2, ...: up is more FPS, right is older meshes (input-to-consume: the helper starts a mesh → the main thread takes it); a label hidden by another names the same depth. {}.",
-        v.describe(false)
+        v.describe(&[Dim::Sync, Dim::Depth, Dim::Consume])
     ));
     let mut size = CHART_SIZE;
     if rows > 1 {

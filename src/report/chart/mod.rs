@@ -7,14 +7,16 @@
 mod balance;
 mod bars;
 mod frames;
+mod glyphs;
 mod latency;
 mod render;
 
 use crate::cell::Mode;
 use crate::cell::{Axes, Dim, DimValue, Value};
-use crate::results::{CellKey, Results};
+use crate::results::{Cell, CellKey, Results};
 use crate::summary::Summary;
 use crate::sync::SyncMethod;
+use crate::workload::{Fog, Synthetic, WorkloadKind};
 use itertools::Itertools;
 use plotters::style::RGBColor;
 use std::path::{Path, PathBuf};
@@ -102,8 +104,8 @@ impl NothingToDraw {
 /// A chart that was not drawn, and why.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Skipped {
-    /// The chart's file stem, one of [`CHARTS`].
-    pub chart: &'static str,
+    /// The chart's file stem: one of [`CHARTS`], with its slice for a chart drawn per slice.
+    pub chart: String,
     /// Why it had nothing to show.
     pub reason: String,
 }
@@ -142,17 +144,17 @@ pub fn draw_with(
         source,
     })?;
     let mut drawn = Drawn::default();
-    for (name, chart) in CHARTS.into_iter().zip(build(results, options)) {
-        match chart {
+    for built in build(results, options) {
+        match built.drawn {
             Ok(chart) => {
                 for &format in &options.formats {
-                    let path = out_dir.join(format!("{name}.{}", format.name()));
+                    let path = out_dir.join(format!("{}.{}", built.name, format.name()));
                     render::write(&chart, &path, format)?;
                     drawn.files.push(path);
                 }
             }
             Err(NothingToDraw(reason)) => drawn.skipped.push(Skipped {
-                chart: name,
+                chart: built.name,
                 reason,
             }),
         }
@@ -160,25 +162,45 @@ pub fn draw_with(
     Ok(drawn)
 }
 
-/// A chart by its name in [`CHARTS`]: its SVG text, or why it has nothing to draw.
-pub type Svg = (&'static str, Result<String, NothingToDraw>);
+/// One chart as SVG text, for pages that inline them.
+pub struct Svg {
+    /// Its file stem: one of [`CHARTS`], with its slice for a chart drawn per slice.
+    pub name: String,
+    /// Which of [`CHARTS`] it is.
+    pub chart: &'static str,
+    /// The SVG text, or why it has nothing to draw.
+    pub drawn: Result<String, NothingToDraw>,
+}
 
-/// Every chart of [`CHARTS`], in that order, as SVG text (for pages that inline them).
-/// `options.formats` is not used.
+/// Every chart, in the order of [`CHARTS`] (a chart drawn per slice once per slice), as SVG
+/// text. `options.formats` is not used.
 pub fn svgs(results: &[Results], options: &ChartOptions) -> Result<Vec<Svg>, ChartError> {
     render::register_font()?;
-    CHARTS
+    build(results, options)
         .into_iter()
-        .zip(build(results, options))
-        .map(|(name, chart)| match chart {
-            Ok(chart) => Ok((name, Ok(render::svg(&chart, name)?))),
-            Err(why) => Ok((name, Err(why))),
+        .map(|built| {
+            let drawn = match built.drawn {
+                Ok(chart) => Ok(render::svg(&chart, &built.name)?),
+                Err(why) => Err(why),
+            };
+            Ok(Svg {
+                name: built.name,
+                chart: built.chart,
+                drawn,
+            })
         })
         .collect()
 }
 
-/// Every chart of [`CHARTS`] as data, in that order.
-fn build(results: &[Results], options: &ChartOptions) -> [Result<render::Chart, NothingToDraw>; 7] {
+/// One chart as data, under the file stem it is written as.
+struct Built {
+    name: String,
+    chart: &'static str,
+    drawn: Result<render::Chart, NothingToDraw>,
+}
+
+/// Every chart as data, in the order of [`CHARTS`]; Figure 5-1 and the speed-up once per slice.
+fn build(results: &[Results], options: &ChartOptions) -> Vec<Built> {
     let runs = Runs::new(results, &options.select);
     let selected = |dim| {
         options
@@ -188,15 +210,39 @@ fn build(results: &[Results], options: &ChartOptions) -> [Result<render::Chart, 
             .and_then(|&(_, v)| usize::from_value(v))
     };
     let focus = runs.focus(selected(Dim::Size), selected(Dim::Workload));
-    [
-        bars::figure_5_1(&runs),
-        bars::relative(&runs),
-        bars::sync(&runs),
-        frames::frame_times(&runs, focus),
-        frames::breakdown(&runs, focus),
-        latency::latency_vs_fps(&runs, focus),
-        balance::balance(&runs),
-    ]
+    let one = |chart: &'static str, drawn| Built {
+        name: chart.to_string(),
+        chart,
+        drawn,
+    };
+    let per_slice =
+        |chart: &'static str, draw: fn(&Runs, &Variant) -> Result<render::Chart, NothingToDraw>| {
+            match runs.slices.as_slice() {
+                [] => vec![one(
+                    chart,
+                    Err(NothingToDraw::new("no cells in the results")),
+                )],
+                [only] => vec![one(chart, draw(&runs, only))],
+                slices => slices
+                    .iter()
+                    .map(|v| Built {
+                        name: format!("{chart}-{}", v.slug()),
+                        chart,
+                        drawn: draw(&runs, v),
+                    })
+                    .collect(),
+            }
+        };
+    let mut out = per_slice(CHARTS[0], bars::figure_5_1);
+    out.extend(per_slice(CHARTS[1], bars::relative));
+    out.extend([
+        one(CHARTS[2], bars::sync(&runs)),
+        one(CHARTS[3], frames::frame_times(&runs, focus)),
+        one(CHARTS[4], frames::breakdown(&runs, focus)),
+        one(CHARTS[5], latency::latency_vs_fps(&runs, focus)),
+        one(CHARTS[6], balance::balance(&runs)),
+    ]);
+    out
 }
 
 /// Method colours, in the methods' declaration order: the Okabe-Ito palette first (the paper's
@@ -245,6 +291,9 @@ struct Runs<'a> {
     runs: Vec<Run<'a>>,
     /// The cells the charts draw; `None` when there are no cells.
     variant: Option<Variant>,
+    /// The cells of each slice ([`crate::findings::Slice`]) the selection leaves, in the order
+    /// the cells show them: Figure 5-1 and the speed-up are drawn once per slice.
+    slices: Vec<Variant>,
 }
 
 /// The cells a chart draws: every dimension but the ones the chart lays out (size, workload,
@@ -253,12 +302,22 @@ struct Runs<'a> {
 struct Variant {
     /// A threaded cell at the chosen values.
     template: CellKey,
+    /// The values that set its slice apart from the run's other slices.
+    slice: Vec<(Dim, Value)>,
 }
 
 /// The dimensions every chart lays out itself.
 const LAID_OUT: [Dim; 3] = [Dim::Size, Dim::Workload, Dim::Mode];
 
 impl Variant {
+    /// The slice in a file name: `workload_kind-fog`, `helpers-2-depth-2`.
+    fn slug(&self) -> String {
+        self.slice
+            .iter()
+            .map(|(d, v)| format!("{}-{v}", d.config_key()))
+            .join("-")
+    }
+
     fn sync(&self) -> SyncMethod {
         self.template.sync.expect("the template is a threaded cell")
     }
@@ -278,15 +337,14 @@ impl Variant {
         }
     }
 
-    /// The held values, as the subtitle names them (the method too when `with_sync`).
-    fn describe(&self, with_sync: bool) -> String {
+    /// Every held value, defaults included, as titles name them, but those of the dimensions
+    /// the chart lays out besides size, workload and mode (`also`): a reader must be able to
+    /// tell two slices' charts apart by their titles.
+    fn describe(&self, also: &[Dim]) -> String {
         Dim::ALL
             .iter()
-            .filter(|&&d| !LAID_OUT.contains(&d) && (with_sync || d != Dim::Sync))
-            .filter_map(|&d| {
-                let v = self.template.get(d)?;
-                (Some(v) != d.quiet()).then(|| d.title(v))
-            })
+            .filter(|&&d| !LAID_OUT.contains(&d) && !also.contains(&d))
+            .filter_map(|&d| Some(d.title(self.template.get(d)?)))
             .join(", ")
     }
 }
@@ -387,8 +445,10 @@ impl<'a> Runs<'a> {
                 .map(|(label, results)| Run { label, results })
                 .collect(),
             variant: None,
+            slices: Vec::new(),
         };
         runs.variant = runs.choose_variant(select);
+        runs.slices = runs.slice_variants(select);
         runs
     }
 
@@ -532,7 +592,49 @@ impl<'a> Runs<'a> {
                 .or_else(|| defaults.values(d).first().copied()),
         })
         .ok()?;
-        Some(Variant { template })
+        Some(Variant {
+            template,
+            slice: Vec::new(),
+        })
+    }
+
+    /// A variant per slice: the findings' slice dimensions of every run, each combination of
+    /// their values that a threaded cell (in a serial-only run, any cell) has, in cell order,
+    /// without those the selection rules out.
+    fn slice_variants(&self, select: &[(Dim, Value)]) -> Vec<Variant> {
+        let dims: Vec<Dim> = Dim::ALL
+            .iter()
+            .copied()
+            .filter(|d| {
+                self.runs
+                    .iter()
+                    .any(|r| crate::findings::slice_dims(r.results).contains(d))
+            })
+            .collect();
+        let threaded = self.keys().any(|k| !k.is_serial());
+        let mut combos: Vec<Vec<(Dim, Value)>> = Vec::new();
+        for key in self.keys().filter(|k| !threaded || !k.is_serial()) {
+            let combo: Vec<(Dim, Value)> = dims
+                .iter()
+                .filter_map(|&d| Some((d, key.get(d)?)))
+                .collect();
+            let chosen = combo
+                .iter()
+                .all(|(d, v)| select.iter().all(|(s, w)| s != d || w == v));
+            if chosen && !combos.contains(&combo) {
+                combos.push(combo);
+            }
+        }
+        combos
+            .into_iter()
+            .filter_map(|combo| {
+                let mut held = select.to_vec();
+                held.extend(combo.iter().copied());
+                let mut v = self.choose_variant(&held)?;
+                v.slice = combo;
+                Some(v)
+            })
+            .collect()
     }
 
     /// The cell of the single-cell charts: the largest size with a measured cell, at its highest
@@ -553,6 +655,74 @@ impl<'a> Runs<'a> {
                 .max()
         })?;
         Some((size, workload))
+    }
+
+    /// A measured cell of the slice at `size` and `workload`, for what its workload amounted to:
+    /// DP's, else UP's, else serial's.
+    fn level_cell(&self, v: &Variant, size: usize, workload: usize) -> Option<&'a Cell> {
+        [Mode::Dp, Mode::Up, Mode::Serial]
+            .into_iter()
+            .find_map(|mode| {
+                let key = v.key(size, workload, mode, v.sync());
+                self.runs.iter().find_map(|r| r.results.cell(&key))
+            })
+    }
+
+    /// The title of a workload-level axis: what the slice's workload kind does per frame, in
+    /// its unit.
+    fn workload_axis(&self, v: &Variant) -> String {
+        let kind = v.template.workload_kind;
+        let unit = self
+            .sizes()
+            .into_iter()
+            .cartesian_product(self.workloads())
+            .find_map(|(s, w)| self.level_cell(v, s, w))
+            .map_or(kind.unit(), |c| c.workload_unit());
+        match unit {
+            Synthetic::UNIT if kind == WorkloadKind::SYNTHETIC => {
+                "workload level (synthetic main-thread work, µs per frame)".into()
+            }
+            Fog::UNIT => format!(
+                "workload level ({}: a volume of edge N, N³ voxels per frame)",
+                kind.name()
+            ),
+            _ => format!("workload level ({}: {unit} per frame)", kind.name()),
+        }
+    }
+
+    /// A workload level's tick: its index, then what it amounted to at `size` in the slice (µs
+    /// for the synthetic chain, N³ for a fog volume, else the amount in the kind's unit).
+    fn level_tick(&self, v: &Variant, size: usize, workload: usize) -> String {
+        let head = format!("workload {workload}");
+        let Some(cell) = self.level_cell(v, size, workload) else {
+            return head;
+        };
+        let amount = cell.workload_amount();
+        let synthetic = v.template.workload_kind == WorkloadKind::SYNTHETIC;
+        let tail = match cell.workload_unit() {
+            Synthetic::UNIT if synthetic => {
+                let micros = cell
+                    .calibration
+                    .as_ref()
+                    .map(|c| c.level_micros)
+                    .or_else(|| {
+                        self.runs.iter().find_map(|r| {
+                            let levels = &r.results.calibration.levels;
+                            levels
+                                .iter()
+                                .find(|l| l.workload == workload)
+                                .map(|l| l.micros)
+                        })
+                    });
+                match micros {
+                    Some(us) => format!("{} µs", render::short(us)),
+                    None => amount.to_string(),
+                }
+            }
+            Fog::UNIT => format!("{amount}³"),
+            _ => amount.to_string(),
+        };
+        format!("{head}\n{tail}")
     }
 
     /// The summary of `key` in `run`, noting it as missing (or failed) when there is none.

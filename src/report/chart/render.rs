@@ -1,5 +1,6 @@
 //! Drawing the chart data with plotters, the same way for every backend.
 
+use super::glyphs::Glyphs;
 use super::{ChartError, ChartFormat};
 use plotters::chart::MeshStyle;
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged, ValueFormatter};
@@ -12,7 +13,7 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 const FONT: &str = "sans-serif";
-const FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
+pub(super) const FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
 const TEXT: RGBColor = RGBColor(0x20, 0x20, 0x20);
 const SUBTLE: RGBColor = RGBColor(0x50, 0x50, 0x50);
 const NOTE: RGBColor = RGBColor(0xa0, 0x1c, 0x1c);
@@ -186,7 +187,7 @@ pub(super) struct Chart {
 pub(super) fn write(chart: &Chart, path: &Path, format: ChartFormat) -> Result<(), ChartError> {
     let drawn = match format {
         ChartFormat::Png => draw(
-            &BitMapBackend::new(path, chart.size).into_drawing_area(),
+            &Glyphs::new(BitMapBackend::new(path, chart.size)).into_drawing_area(),
             chart,
         ),
         ChartFormat::Svg => draw(
@@ -315,7 +316,9 @@ fn frame<DB: DrawingBackend>(
             ))
             .map_err(err)?;
         }
-        root.draw_text(&entry.name, &legend, (x + mark + 6, y))
+        // Three pixels down centres the capitals (0.76 em from the top to the baseline) on the
+        // 17-pixel mark.
+        root.draw_text(&entry.name, &legend, (x + mark + 6, y + 3))
             .map_err(err)?;
         x += width + 30;
     }
@@ -468,7 +471,7 @@ fn bar_panel<DB: DrawingBackend>(
     let group_px = chart.plotting_area().dim_in_pixel().0 as f64 / n as f64;
     let fits = panel.groups.iter().try_fold(true, |fits, g| {
         let w = area.estimate_text_size(g, &font(15.0)).map_err(err)?.0 as f64;
-        Ok::<_, DrawError>(fits && w < group_px * 0.92)
+        Ok::<_, DrawError>(fits && !g.contains('\n') && w < group_px * 0.92)
     })?;
     // Group names too wide for their slot are drawn by hand below, broken after a hyphen.
     let x_fmt = |v: &f64| {
@@ -493,6 +496,7 @@ fn bar_panel<DB: DrawingBackend>(
     let plot_width = chart.plotting_area().dim_in_pixel().0 as f64;
     let slot_px = plot_width * slot / n as f64;
     let value_style = font(12.0).pos(Pos::new(HPos::Center, VPos::Bottom));
+    let mut values = Vec::new();
     for bar in &panel.bars {
         let x0 = bar.group as f64 - 0.4 + bar.slot as f64 * slot + slot * 0.08;
         let x1 = x0 + slot * 0.84;
@@ -521,14 +525,10 @@ fn bar_panel<DB: DrawingBackend>(
         let text = (plot.format)(bar.value);
         let text_px = area.estimate_text_size(&text, &value_style).map_err(err)?.0 as f64;
         if text_px < slot_px * 0.98 {
-            chart
-                .plotting_area()
-                .draw(&Text::new(
-                    text,
-                    (mid, bar_top(bar) + y_max * 0.012),
-                    value_style.clone(),
-                ))
-                .map_err(err)?;
+            values.push((
+                text,
+                chart.backend_coord(&(mid, bar_top(bar) + y_max * 0.012)),
+            ));
         }
     }
     for r in &panel.refs {
@@ -541,11 +541,46 @@ fn bar_panel<DB: DrawingBackend>(
             ))
             .map_err(err)?;
     }
+    // Last, so that a reference line stops at a value instead of striking it through.
+    for (text, at) in values {
+        label(area, &text, &value_style, at)?;
+    }
     Ok(())
 }
 
-/// Draws each group's name centred under its slot, in two lines when it is too wide for one
-/// (broken after its first hyphen, else in the middle), in a smaller font.
+/// Draws `text` at `at` (backend pixels, placed by the style's anchor) over a white box of its
+/// size, so that a grid or data line under it stops at its edge instead of striking it.
+fn label<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    text: &str,
+    style: &TextStyle,
+    at: (i32, i32),
+) -> Result<(), DrawError> {
+    let (w, h) = area.estimate_text_size(text, style).map_err(err)?;
+    let (w, h) = (w as i32, h as i32);
+    let base = area.get_base_pixel();
+    let (x, y) = (at.0 - base.0, at.1 - base.1);
+    let x0 = match style.pos.h_pos {
+        HPos::Left => x,
+        HPos::Center => x - w / 2,
+        HPos::Right => x - w,
+    };
+    let y0 = match style.pos.v_pos {
+        VPos::Top => y,
+        VPos::Center => y - h / 2,
+        VPos::Bottom => y - h,
+    };
+    area.draw(&Rectangle::new(
+        [(x0 - 2, y0 - 2), (x0 + w + 2, y0 + h + 2)],
+        WHITE.filled(),
+    ))
+    .map_err(err)?;
+    area.draw(&Text::new(text.to_string(), (x, y), style.clone()))
+        .map_err(err)
+}
+
+/// Draws each group's name centred under its slot, a line per `\n`, and a line in two when it
+/// is too wide for one (broken after its first hyphen, else in the middle), in a smaller font.
 fn group_labels<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     chart: &ChartContext<'_, DB, Cartesian2d<Categories, RangedCoordf64>>,
@@ -556,17 +591,24 @@ fn group_labels<DB: DrawingBackend>(
     let base = area.get_base_pixel();
     for (i, g) in groups.iter().enumerate() {
         let (x, y) = chart.backend_coord(&(i as f64, 0.0));
-        let width = area.estimate_text_size(g, &style).map_err(err)?.0 as f64;
-        let lines: Vec<String> = if width < group_px * 0.95 {
-            vec![g.clone()]
-        } else {
-            let at = g.find('-').map_or(g.len() / 2, |h| h + 1);
-            vec![g[..at].to_string(), g[at..].to_string()]
-        };
+        let mut lines: Vec<String> = Vec::new();
+        for part in g.split('\n') {
+            let width = area.estimate_text_size(part, &style).map_err(err)?.0 as f64;
+            if width < group_px * 0.95 {
+                lines.push(part.to_string());
+            } else {
+                let at = part.find('-').map_or(part.len() / 2, |h| h + 1);
+                let at = (0..=at)
+                    .rev()
+                    .find(|&i| part.is_char_boundary(i))
+                    .unwrap_or(0);
+                lines.extend([part[..at].to_string(), part[at..].to_string()]);
+            }
+        }
         for (k, line) in lines.into_iter().enumerate() {
             area.draw(&Text::new(
                 line,
-                (x - base.0, y - base.1 + 6 + 15 * k as i32),
+                (x - base.0, y - base.1 + 9 + 15 * k as i32),
                 style.clone(),
             ))
             .map_err(err)?;
@@ -737,18 +779,19 @@ fn traces<DB: DrawingBackend>(
                     0.0..y_max,
                 )
                 .map_err(err)?;
-            trace_panel(chart, plot, panel, short)?;
+            trace_panel(area, chart, plot, panel, short)?;
         } else {
             let chart = builder()
                 .build_cartesian_2d(0.0..x_max, 0.0..y_max)
                 .map_err(err)?;
-            trace_panel(chart, plot, panel, ms)?;
+            trace_panel(area, chart, plot, panel, ms)?;
         }
     }
     Ok(())
 }
 
 fn trace_panel<DB: DrawingBackend, X>(
+    area: &DrawingArea<DB, Shift>,
     mut chart: ChartContext<'_, DB, Cartesian2d<X, RangedCoordf64>>,
     plot: &TracePlot,
     panel: &TracePanel,
@@ -766,9 +809,10 @@ where
         &x_fmt,
         &y_fmt,
     )?;
-    // A point's label is drawn only where it overlaps no label already drawn: in a cluster of
-    // points the first trace's labels stand for the rest.
+    // A point's label is drawn only where it overlaps no label already placed: in a cluster of
+    // points the first trace's labels stand for the rest. Labels are drawn after every line.
     let mut placed: Vec<(i32, i32, i32, i32)> = Vec::new();
+    let mut labels: Vec<(String, (i32, i32))> = Vec::new();
     let label_style = font(13.0);
     for trace in &panel.traces {
         let line: Vec<(f64, f64)> = trace.points.iter().map(|p| (p.0, p.1)).collect();
@@ -795,14 +839,12 @@ where
                 .all(|r| rect.2 < r.0 || r.2 < rect.0 || rect.3 < r.1 || r.3 < rect.1);
             if clear {
                 placed.push(rect);
-                chart
-                    .draw_series(std::iter::once(
-                        EmptyElement::at((*x, *y))
-                            + Text::new(label.clone(), (7, -18), label_style.clone()),
-                    ))
-                    .map_err(err)?;
+                labels.push((label.clone(), (rect.0, rect.1)));
             }
         }
+    }
+    for (text, at) in labels {
+        label(area, &text, &label_style, at)?;
     }
     Ok(())
 }

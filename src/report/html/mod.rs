@@ -37,19 +37,17 @@ pub fn page(
     baseline: Option<&Baseline>,
 ) -> Result<String, ChartError> {
     let charts = chart::svgs(std::slice::from_ref(results), &ChartOptions::default())?;
-    let chart = |name: &str| -> Markup {
-        let Some((name, drawn)) = charts.iter().find(|(n, _)| *n == name) else {
-            return html! {};
-        };
-        match drawn {
-            Ok(svg) => html! {
-                figure id={ "chart-" (name) } {
-                    (PreEscaped(svg.as_str()))
+    // A chart drawn per slice appears once per slice, each under its own file stem.
+    let chart = |chart: &str| -> Markup {
+        html! {
+            @for svg in charts.iter().filter(|s| s.chart == chart) {
+                @match &svg.drawn {
+                    Ok(text) => figure id={ "chart-" (svg.name) } { (PreEscaped(text.as_str())) },
+                    Err(NothingToDraw(why)) => p.note id={ "chart-" (svg.name) } {
+                        "Chart " code { (svg.name) } " not drawn: " (why)
+                    },
                 }
-            },
-            Err(NothingToDraw(why)) => html! {
-                p.note id={ "chart-" (name) } { "Chart " code { (name) } " not drawn: " (why) }
-            },
+            }
         }
     };
     let title = format!("oceanbench: {}", results.config.name);
