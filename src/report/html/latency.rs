@@ -1,73 +1,62 @@
 //! The page of a latency run: the verdict against a baseline when there is one, every method's
 //! round trip over its repeats next to the floor on the same cores, and what it ran on.
 
-use super::{command_line, comparison, machine_facts, or_missing, table, Baseline, STYLE};
+use super::{command_line, comparison, document, machine_facts, or_missing, table, Baseline};
 use crate::report::markdown::Table;
 use crate::results::latency::{LatencyRun, FLOOR};
 use crate::stats;
-use maud::{html, PreEscaped, DOCTYPE};
+use maud::html;
 
 /// The page of latency run `run`; `source` names it as the user gave it.
 pub fn latency_page(run: &LatencyRun, source: &str, baseline: Option<&Baseline>) -> String {
     let title = "oceanbench: hand-off round trips";
-    html! {
-        (DOCTYPE)
-        html lang="en" {
-            head {
-                meta charset="utf-8";
-                meta name="viewport" content="width=device-width, initial-scale=1";
-                title { (title) }
-                style { (PreEscaped(STYLE)) }
+    let body = html! {
+        h1 { (title) }
+        p.subtitle {
+            @if run.started.is_empty() { "Start " span.missing { "not recorded" } }
+            @else { "Started " (run.started) }
+            "; " (run.rows.len()) " rows, each measured " (run.repeats)
+            " time(s), from " code { (source) } "."
+        }
+        section id="verdict" {
+            h2 { "Verdict" }
+            @if let Some(b) = baseline {
+                p id="verdict-baseline" {
+                    (b.comparison.summary_line()) " "
+                    a href="#comparison" { "(against " code { (b.name) } ")" }
+                }
             }
-            body {
-                h1 { (title) }
-                p.subtitle {
-                    @if run.started.is_empty() { "Start " span.missing { "not recorded" } }
-                    @else { "Started " (run.started) }
-                    "; " (run.rows.len()) " rows, each measured " (run.repeats)
-                    " time(s), from " code { (source) } "."
+            @if run.repeats < crate::report::compare::MIN_TRIALS {
+                p.note {
+                    "Only " (run.repeats) " repeat(s) per row: compare gives this run no verdict "
+                    "(it needs " (crate::report::compare::MIN_TRIALS) ")."
                 }
-                section id="verdict" {
-                    h2 { "Verdict" }
-                    @if let Some(b) = baseline {
-                        p id="verdict-baseline" {
-                            (b.comparison.summary_line()) " "
-                            a href="#comparison" { "(against " code { (b.name) } ")" }
-                        }
-                    }
-                    @if run.repeats < crate::report::compare::MIN_TRIALS {
-                        p.note {
-                            "Only " (run.repeats) " repeat(s) per row: compare gives this run no verdict "
-                            "(it needs " (crate::report::compare::MIN_TRIALS) ")."
-                        }
-                    }
-                    @if let Some(line) = floor_line(run) { p { (line) } }
-                }
-                nav id="contents" {
-                    "Contents: " a href="#round-trips" { "Round trips" }
-                    @if baseline.is_some() { " · " a href="#comparison" { "Against the baseline" } }
-                    " · " a href="#what-ran" { "What was run" }
-                }
-                h2 id="round-trips" { "Round trips" }
-                (table(&round_trip_table(run)))
-                @if let Some(b) = baseline { (comparison(b)) }
-                h2 id="what-ran" { "What was run" }
-                dl.facts {
-                    dt { "command line" } dd { (or_missing(run.command.as_deref().map(command_line).as_deref().map(|c| html! { code { (c) } }))) }
-                    dt { "round trips per row and repeat" } dd { (run.samples) }
-                    dt { "repeats" } dd { (run.repeats) }
-                    @match &run.machine {
-                        Some(m) => { (machine_facts(m)) },
-                        None => { dt { "machine" } dd { span.missing { "not recorded (a file from before runs kept it)" } } },
-                    }
-                }
-                footer {
-                    "Written by oceanbench " (env!("CARGO_PKG_VERSION")) " from the latency run alone."
-                }
+            }
+            @if let Some(line) = floor_line(run) { p { (line) } }
+        }
+        nav id="contents" {
+            "Contents: " a href="#round-trips" { "Round trips" }
+            @if baseline.is_some() { " · " a href="#comparison" { "Against the baseline" } }
+            " · " a href="#what-ran" { "What was run" }
+        }
+        h2 id="round-trips" { "Round trips" }
+        (table(&round_trip_table(run)))
+        @if let Some(b) = baseline { (comparison(b)) }
+        h2 id="what-ran" { "What was run" }
+        dl.facts {
+            dt { "command line" } dd { (or_missing(run.command.as_deref().map(command_line).as_deref().map(|c| html! { code { (c) } }))) }
+            dt { "round trips per row and repeat" } dd { (run.samples) }
+            dt { "repeats" } dd { (run.repeats) }
+            @match &run.machine {
+                Some(m) => { (machine_facts(m)) },
+                None => { dt { "machine" } dd { span.missing { "not recorded (a file from before runs kept it)" } } },
             }
         }
-    }
-    .into_string()
+        footer {
+            "Written by oceanbench " (env!("CARGO_PKG_VERSION")) " from the latency run alone."
+        }
+    };
+    document(title, body)
 }
 
 /// The floor between the two cores, the line a reader checks the placement by.

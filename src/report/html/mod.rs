@@ -52,7 +52,78 @@ pub fn page(
     };
     let title = format!("oceanbench: {}", results.config.name);
     let has_balance = !results.balance.is_empty() || !results.balance_failures.is_empty();
-    let markup = html! {
+    let body = html! {
+        h1 { (title) }
+        p.subtitle {
+            "Started " (results.started) ", "
+            @match &results.finished {
+                Some(f) => { "finished " (f) },
+                None => { "not finished (interrupted, or still running)" },
+            }
+            "; " (results.cells.len()) " cells from " code { (source) } "."
+        }
+        (verdict(results, baseline))
+        nav id="contents" {
+            "Contents: "
+            @for (i, (id, name)) in sections(has_balance, baseline.is_some()).iter().enumerate() {
+                @if i > 0 { " · " }
+                a href={ "#" (id) } { (name) }
+            }
+        }
+        h2 id="figure-5-1" { "Figure 5-1" }
+        (chart("figure-5-1"))
+        (chart("relative"))
+        h2 id="fps" { "Frames per second" }
+        p.note {
+            "FPS = frames ÷ seconds over every trial; ± is the spread (coefficient of variation) over trials; "
+            (NOISY) " marks a cell that kept a trial in which other tasks or the hypervisor took more than "
+            (results.config.noise_threshold_percent) " % of the time, " (UNEXPLAINED)
+            " a cell with a slow trial that nothing recorded explains, " (MIXED)
+            " a cell whose trials ran in more than one placement of the two cores; "
+            "DP÷UP and DP÷serial are ratios of FPS."
+        }
+        @for t in markdown::fps_tables(results) { (table(&t)) }
+        @if let Some(line) = markdown::placement_line(results) {
+            h3 id="placement" { "Placement" }
+            p { (line) }
+            @if let Some(t) = markdown::placement_table(results) { (table(&t)) }
+            @if let Some(f) = crate::findings::placement::finding(results) {
+                p id="placement-finding" { (f.sentence) }
+            }
+        }
+        @if let Some(t) = markdown::slow_trials(results) { (table(&t)) }
+        @let noisy = markdown::noisy_cells(results);
+        @if !noisy.is_empty() {
+            h3 { "Noisy cells" }
+            ul id="noisy-cells" { @for line in &noisy { li { (line) } } }
+        }
+        @for t in markdown::work_tables(results) { (table(&t)) }
+        h2 id="frame-times" { "Frame times" }
+        (table(&frame_metrics(results)))
+        (chart("frame-times"))
+        (chart("breakdown"))
+        @if has_balance {
+            h2 id="balance" { "Balance point" }
+            @if let Some(t) = markdown::balance_table(results) { (table(&t)) }
+            (chart("balance"))
+        }
+        h2 id="handoffs" { "Hand-offs and latency" }
+        (chart("sync"))
+        (chart("latency-vs-fps"))
+        @if let Some(b) = baseline { (comparison(b)) }
+        (what_was_run(results))
+        footer {
+            "Written by oceanbench " (env!("CARGO_PKG_VERSION"))
+            " from the results file alone; the charts are the ones "
+            code { "oceanbench chart" } " draws."
+        }
+    };
+    Ok(document(&title, body))
+}
+
+/// A whole page: its title, the style sheet inline and `body`.
+fn document(title: &str, body: Markup) -> String {
+    html! {
         (DOCTYPE)
         html lang="en" {
             head {
@@ -61,75 +132,10 @@ pub fn page(
                 title { (title) }
                 style { (PreEscaped(STYLE)) }
             }
-            body {
-                h1 { (title) }
-                p.subtitle {
-                    "Started " (results.started) ", "
-                    @match &results.finished {
-                        Some(f) => { "finished " (f) },
-                        None => { "not finished (interrupted, or still running)" },
-                    }
-                    "; " (results.cells.len()) " cells from " code { (source) } "."
-                }
-                (verdict(results, baseline))
-                nav id="contents" {
-                    "Contents: "
-                    @for (i, (id, name)) in sections(has_balance, baseline.is_some()).iter().enumerate() {
-                        @if i > 0 { " · " }
-                        a href={ "#" (id) } { (name) }
-                    }
-                }
-                h2 id="figure-5-1" { "Figure 5-1" }
-                (chart("figure-5-1"))
-                (chart("relative"))
-                h2 id="fps" { "Frames per second" }
-                p.note {
-                    "FPS = frames ÷ seconds over every trial; ± is the spread (coefficient of variation) over trials; "
-                    (NOISY) " marks a cell that kept a trial in which other tasks or the hypervisor took more than "
-                    (results.config.noise_threshold_percent) " % of the time, " (UNEXPLAINED)
-                    " a cell with a slow trial that nothing recorded explains, " (MIXED)
-                    " a cell whose trials ran in more than one placement of the two cores; "
-                    "DP÷UP and DP÷serial are ratios of FPS."
-                }
-                @for t in markdown::fps_tables(results) { (table(&t)) }
-                @if let Some(line) = markdown::placement_line(results) {
-                    h3 id="placement" { "Placement" }
-                    p { (line) }
-                    @if let Some(t) = markdown::placement_table(results) { (table(&t)) }
-                    @if let Some(f) = crate::findings::placement::finding(results) {
-                        p id="placement-finding" { (f.sentence) }
-                    }
-                }
-                @if let Some(t) = markdown::slow_trials(results) { (table(&t)) }
-                @let noisy = markdown::noisy_cells(results);
-                @if !noisy.is_empty() {
-                    h3 { "Noisy cells" }
-                    ul id="noisy-cells" { @for line in &noisy { li { (line) } } }
-                }
-                @for t in markdown::work_tables(results) { (table(&t)) }
-                h2 id="frame-times" { "Frame times" }
-                (table(&frame_metrics(results)))
-                (chart("frame-times"))
-                (chart("breakdown"))
-                @if has_balance {
-                    h2 id="balance" { "Balance point" }
-                    @if let Some(t) = markdown::balance_table(results) { (table(&t)) }
-                    (chart("balance"))
-                }
-                h2 id="handoffs" { "Hand-offs and latency" }
-                (chart("sync"))
-                (chart("latency-vs-fps"))
-                @if let Some(b) = baseline { (comparison(b)) }
-                (what_was_run(results))
-                footer {
-                    "Written by oceanbench " (env!("CARGO_PKG_VERSION"))
-                    " from the results file alone; the charts are the ones "
-                    code { "oceanbench chart" } " draws."
-                }
-            }
+            body { (body) }
         }
-    };
-    Ok(markup.into_string())
+    }
+    .into_string()
 }
 
 /// The page's sections, each its anchor and heading, in page order.
