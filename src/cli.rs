@@ -227,6 +227,9 @@ pub struct RunArgs {
     /// Also write results files into this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Write each cell's last trial as a MangoHud frame-time log (CSV) into this folder.
+    #[arg(long, value_name = "DIR")]
+    pub frame_log: Option<PathBuf>,
     /// Calibration and noise handling.
     #[command(flatten)]
     pub noise: NoiseArgs,
@@ -340,6 +343,9 @@ pub struct SweepArgs {
     /// first two allowed).
     #[arg(long, value_delimiter = ',', conflicts_with = "resume")]
     pub cores: Option<Vec<usize>>,
+    /// Write each cell's last trial as a MangoHud frame-time log (CSV) into this folder.
+    #[arg(long, value_name = "DIR")]
+    pub frame_log: Option<PathBuf>,
     /// Calibration and noise handling (not with --resume, which keeps the recorded config).
     #[command(flatten)]
     pub noise: NoiseArgs,

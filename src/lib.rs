@@ -14,6 +14,7 @@ pub mod crosscore;
 pub mod doctor;
 pub mod exit;
 pub mod findings;
+pub mod frame_log;
 pub mod frame_loop;
 pub mod grid;
 pub mod input;
