@@ -65,6 +65,9 @@ pub enum Command {
     Docs(DocsArgs),
     /// Collect the estimates a `cargo bench` run just wrote into results/bench-<name>-<UTC>/.
     BenchRecord(BenchRecordArgs),
+    /// Write a run's FPS per cell for a CI benchmark tracker: Bencher (bmf) or
+    /// github-action-benchmark.
+    Export(ExportArgs),
 }
 
 /// One flag per dimension of a cell (`--size`, `--mode`, `--sync`, ...), each taking a value or
@@ -594,6 +597,22 @@ pub struct BenchRecordArgs {
     /// How the run was made, recorded in bench.json (default: this command line).
     #[arg(last = true, value_name = "COMMAND")]
     pub command: Vec<String>,
+}
+
+/// Flags of `oceanbench export`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Each cell is one benchmark, named by every dimension's value and its workload level as the config gives it; FPS with the slowest and fastest trial as its bounds (docs/ci.md).\n\nExamples:\n  oceanbench export results/figure-5-1-20261125T064618Z --format bmf --out bmf.json\n  oceanbench export results/quick/results.json --format github-action-benchmark"
+)]
+pub struct ExportArgs {
+    /// The run: a results directory or its results.json.
+    pub run: PathBuf,
+    /// The tracker's format.
+    #[arg(long, value_enum)]
+    pub format: crate::report::ci::CiFormat,
+    /// The file to write (default: standard output).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
 }
 
 /// Flags of `oceanbench mesh`.

@@ -6,6 +6,7 @@ mod chart;
 mod compare;
 mod docs;
 mod doctor;
+mod export;
 mod findings;
 mod interrupt;
 mod latency;
@@ -70,6 +71,7 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
         Command::Findings(args) => findings::findings(args),
         Command::Docs(args) => docs::docs(args),
         Command::BenchRecord(args) => bench_record::bench_record(args),
+        Command::Export(args) => export::export(args),
     }
 }
 
