@@ -68,6 +68,9 @@ pub enum Command {
     /// Write a run's FPS per cell for a CI benchmark tracker: Bencher (bmf) or
     /// github-action-benchmark.
     Export(ExportArgs),
+    /// Chart a metric across runs in the order they were made, one line per cell, with runs
+    /// on another machine marked.
+    History(HistoryArgs),
 }
 
 /// One flag per dimension of a cell (`--size`, `--mode`, `--sync`, ...), each taking a value or
@@ -613,6 +616,33 @@ pub struct ExportArgs {
     /// The file to write (default: standard output).
     #[arg(long)]
     pub out: Option<PathBuf>,
+}
+
+/// Flags of `oceanbench history`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Runs are ordered by the time they started, then by commit, whatever order they are given in.\n\nExamples:\n  oceanbench history results/ci-*/ --out history\n  oceanbench history a/results.json b/results.json --metric fps,wait-cpu --size 128 --mode dp"
+)]
+pub struct HistoryArgs {
+    /// Two or more runs: results folders or results.json files.
+    #[arg(required = true, value_name = "RUN")]
+    pub runs: Vec<PathBuf>,
+    /// The metrics to chart, one chart each.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "fps")]
+    pub metric: Vec<compare::Metric>,
+    /// Folder for the charts (history-<metric>.<format>).
+    #[arg(long, default_value = ".")]
+    pub out: PathBuf,
+    /// Image formats.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "png,svg")]
+    pub format: Vec<ChartFormat>,
+    /// Chart runs whose configs differ (by default refused: their cells are other work).
+    #[arg(long)]
+    pub force: bool,
+    /// Which cells to draw: a dimension given keeps the cells with one of its values (default:
+    /// every cell of the newest run).
+    #[command(flatten)]
+    pub select: DimArgs,
 }
 
 /// Flags of `oceanbench mesh`.

@@ -8,6 +8,7 @@ mod docs;
 mod doctor;
 mod export;
 mod findings;
+mod history;
 mod interrupt;
 mod latency;
 mod mesh;
@@ -72,6 +73,7 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
         Command::Docs(args) => docs::docs(args),
         Command::BenchRecord(args) => bench_record::bench_record(args),
         Command::Export(args) => export::export(args),
+        Command::History(args) => history::history(args),
     }
 }
 

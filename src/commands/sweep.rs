@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 /// Names the top-level keys where two configs differ.
-fn config_differences(a: &SweepConfig, b: &SweepConfig) -> Vec<String> {
+pub(super) fn config_differences(a: &SweepConfig, b: &SweepConfig) -> Vec<String> {
     let (Ok(serde_json::Value::Object(a)), Ok(serde_json::Value::Object(b))) =
         (serde_json::to_value(a), serde_json::to_value(b))
     else {

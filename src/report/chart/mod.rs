@@ -7,6 +7,7 @@
 mod balance;
 mod bars;
 mod frames;
+pub mod history;
 mod latency;
 mod render;
 
