@@ -69,7 +69,7 @@ pub enum Command {
     /// github-action-benchmark.
     Export(ExportArgs),
     /// Chart a metric across runs in the order they were made, one line per cell, with runs
-    /// on another machine marked.
+    /// on another machine marked, and find where each cell changed.
     History(HistoryArgs),
 }
 
@@ -621,7 +621,7 @@ pub struct ExportArgs {
 /// Flags of `oceanbench history`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "Runs are ordered by the time they started, then by commit, whatever order they are given in.\n\nExamples:\n  oceanbench history results/ci-*/ --out history\n  oceanbench history a/results.json b/results.json --metric fps,wait-cpu --size 128 --mode dp"
+    after_help = "Runs are ordered by the time they started, then by commit, whatever order they are given in. Each cell's change points are printed (docs/ci.md).\n\nExit status: 0, or 1 when a cell's newest run lies in a segment that began with a regression; 2 on bad input.\n\nExamples:\n  oceanbench history results/ci-*/ --out history\n  oceanbench history a/results.json b/results.json --metric fps,wait-cpu --size 128 --mode dp"
 )]
 pub struct HistoryArgs {
     /// Two or more runs: results folders or results.json files.

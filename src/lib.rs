@@ -7,6 +7,7 @@ pub mod bench_run;
 pub mod calibrate;
 pub mod camera;
 pub mod cell;
+pub mod changepoint;
 pub mod cli;
 pub mod commands;
 pub mod config;

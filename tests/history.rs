@@ -85,3 +85,90 @@ fn one_run_or_runs_of_different_configs_are_refused_and_nothing_is_drawn() {
     ]));
     assert!(charts.join("history-fps.svg").exists());
 }
+
+/// Ten runs of the fixture's first cell, started a day apart, its trials' FPS times `factor(i)`
+/// for run i (from 0) and a seeded spread of about 1 %; the history's output.
+fn history_of_ten(dir: &Path, seed: u64, factor: impl Fn(usize) -> f64) -> std::process::Output {
+    let mut state = seed;
+    let mut noise = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        1.0 + ((state >> 33) as f64 / (1u64 << 31) as f64 - 0.5) / 50.0
+    };
+    let runs: Vec<PathBuf> = (0..10)
+        .map(|i| {
+            let f = factor(i) * noise();
+            run_copy(
+                dir,
+                &format!("r{i}"),
+                &format!("2026-11-{:02}T10:00:00Z", i + 10),
+                "CPU A",
+                |r| {
+                    let cell = r["cells"][0].clone();
+                    let trials: Vec<f64> = cell["fps_trials"]
+                        .as_array()
+                        .unwrap()
+                        .iter()
+                        .map(|t| t.as_f64().unwrap() * f)
+                        .collect();
+                    r["cells"] = serde_json::json!([cell]);
+                    r["cells"][0]["fps_trials"] = trials.into();
+                },
+            )
+        })
+        .collect();
+    let charts = dir.join("charts");
+    let mut args: Vec<&str> = vec![
+        "history",
+        "--format",
+        "svg",
+        "--out",
+        charts.to_str().unwrap(),
+    ];
+    args.extend(runs.iter().map(|p| p.to_str().unwrap()));
+    oceanbench(&args)
+}
+
+#[test]
+fn a_ten_percent_regression_at_run_6_is_found_there_and_fails() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = history_of_ten(dir.path(), 1, |i| if i >= 5 { 0.9 } else { 1.0 });
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let changes: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with("change:"))
+        .collect();
+    assert_eq!(changes.len(), 1, "{stdout}");
+    assert!(
+        changes[0].contains("from run 6") && changes[0].contains("regression"),
+        "{stdout}"
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "the newest run follows a regression"
+    );
+}
+
+#[test]
+fn unchanged_runs_give_at_most_one_false_change_in_five_series() {
+    let mut found = 0;
+    for seed in 0..5 {
+        let dir = tempfile::tempdir().unwrap();
+        let out = history_of_ten(dir.path(), 100 + seed, |_| 1.0);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let changes = stdout.lines().filter(|l| l.starts_with("change:")).count();
+        // Every change is reported, and only a regression fails.
+        let regression = stdout
+            .lines()
+            .any(|l| l.starts_with("change:") && l.ends_with("(regression)"));
+        assert_eq!(
+            out.status.code(),
+            Some(if regression { 1 } else { 0 }),
+            "{stdout}"
+        );
+        found += changes;
+    }
+    assert!(found <= 1, "{found} false changes");
+}

@@ -3,10 +3,13 @@
 
 use super::sweep::config_differences;
 use super::{load_results, CliError};
+use crate::changepoint;
 use crate::cli::{DimArgs, HistoryArgs};
 use crate::config::InputError;
 use crate::report::chart::history;
-use crate::results::CellKey;
+use crate::report::compare::Metric;
+use crate::results::{CellKey, Results};
+use crate::stats;
 
 pub(super) fn history(args: HistoryArgs) -> Result<(), CliError> {
     if args.runs.len() < 2 {
@@ -76,6 +79,7 @@ pub(super) fn history(args: HistoryArgs) -> Result<(), CliError> {
             run.machine.line()
         );
     }
+    let regressed = report_changes(&runs, &args.metric, &keys);
     let drawn = history::write(&runs, &args.metric, &keys, &args.out, &args.format)
         .map_err(anyhow::Error::from)?;
     for (metric, files) in args.metric.iter().zip(drawn) {
@@ -86,5 +90,43 @@ pub(super) fn history(args: HistoryArgs) -> Result<(), CliError> {
             Err(e) => eprintln!("oceanbench: history of {metric}: {}", e.0),
         }
     }
+    if regressed {
+        return Err(CliError::Regressed);
+    }
     Ok(())
+}
+
+/// Prints each cell's change points over the runs, per metric; true when a cell's newest run
+/// lies in a segment that began with a regression.
+fn report_changes(runs: &[Results], metrics: &[Metric], keys: &[CellKey]) -> bool {
+    let mut regressed = false;
+    for &metric in metrics {
+        for key in keys {
+            // The runs that measured the cell, by their index among all runs.
+            let (at, values): (Vec<usize>, Vec<f64>) = history::series(runs, key, metric)
+                .into_iter()
+                .enumerate()
+                .filter_map(|(i, v)| v.map(|v| (i, v)))
+                .unzip();
+            let label = key.label();
+            let changes = changepoint::detect(&values, stats::seed_from(&label));
+            for c in &changes {
+                let worse = (c.after < c.before) == metric.higher_is_better();
+                println!(
+                    "change: {label}, {} from run {}: {:+.1}% ({})",
+                    metric.unit(),
+                    at[c.at] + 1,
+                    c.percent(),
+                    if worse { "regression" } else { "improvement" }
+                );
+            }
+            // The newest run is in the last segment, begun by the last change.
+            let newest_measured = at.last() == Some(&(runs.len() - 1));
+            if let Some(last) = changes.last() {
+                regressed |=
+                    newest_measured && (last.after < last.before) == metric.higher_is_better();
+            }
+        }
+    }
+    regressed
 }

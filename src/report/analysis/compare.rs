@@ -50,7 +50,7 @@ impl Metric {
         }
     }
 
-    fn higher_is_better(self) -> bool {
+    pub(crate) fn higher_is_better(self) -> bool {
         self == Metric::Fps
     }
 

@@ -29,11 +29,15 @@ pub fn machine_changes(runs: &[Results]) -> Vec<(usize, String, String)> {
         .collect()
 }
 
-/// A cell's value of `metric`: the median of its trials (as ratios between cells use), `None`
-/// when the cell failed or lacks the metric.
-fn value(run: &Results, key: &CellKey, metric: Metric) -> Option<f64> {
-    let cell = run.cell(key)?;
-    metric.trials(cell).ok().map(|t| stats::median(&t))
+/// A cell's value of `metric` in each run: the median of its trials (as ratios between cells
+/// use), `None` where the cell failed or lacks the metric.
+pub fn series(runs: &[Results], key: &CellKey, metric: Metric) -> Vec<Option<f64>> {
+    runs.iter()
+        .map(|run| {
+            let cell = run.cell(key)?;
+            metric.trials(cell).ok().map(|t| stats::median(&t))
+        })
+        .collect()
 }
 
 /// How the axis names run `i`: its number, its commit's first seven digits and its day, with
@@ -56,17 +60,17 @@ fn category(i: usize, run: &Results, changed: bool) -> String {
 fn chart(runs: &[Results], metric: Metric, keys: &[CellKey]) -> Result<Chart, NothingToDraw> {
     let changes = machine_changes(runs);
     let mut legend = Vec::new();
-    let mut series = Vec::new();
+    let mut lines = Vec::new();
     for (i, key) in keys.iter().enumerate() {
-        let values: Vec<Option<f64>> = runs.iter().map(|r| value(r, key, metric)).collect();
+        let values = series(runs, key, metric);
         if values.iter().all(Option::is_none) {
             continue;
         }
         let color = shade(PALETTE[i % PALETTE.len()], i / PALETTE.len());
         legend.push(Legend::boxed(key.label(), color));
-        series.push(Series { color, values });
+        lines.push(Series { color, values });
     }
-    if series.is_empty() {
+    if lines.is_empty() {
         return Err(NothingToDraw(format!(
             "no chosen cell has {} in any run",
             metric.unit()
@@ -99,7 +103,7 @@ fn chart(runs: &[Results], metric: Metric, keys: &[CellKey]) -> Result<Chart, No
         body: Body::Lines(LinePlot {
             panels: vec![LinePanel {
                 caption: String::new(),
-                series,
+                series: lines,
             }],
             categories,
             first_apart: false,
