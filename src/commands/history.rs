@@ -91,7 +91,10 @@ pub(super) fn history(args: HistoryArgs) -> Result<(), CliError> {
         }
     }
     if regressed {
-        return Err(CliError::Regressed);
+        return Err(anyhow::anyhow!(
+            "a cell's newest run lies in a segment that began with a regression (the change lines above)"
+        )
+        .into());
     }
     Ok(())
 }
