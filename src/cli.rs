@@ -65,6 +65,10 @@ pub enum Command {
     Docs(DocsArgs),
     /// Collect the estimates a `cargo bench` run just wrote into results/bench-<name>-<UTC>/.
     BenchRecord(BenchRecordArgs),
+    /// Print the shell completion script for bash, zsh, fish, elvish or powershell.
+    Completions(CompletionsArgs),
+    /// Print the man page (roff), or write one page per command into a folder.
+    Man(ManArgs),
     /// Write a run's FPS per cell for a CI benchmark tracker: Bencher (bmf) or
     /// github-action-benchmark.
     Export(ExportArgs),
@@ -153,14 +157,14 @@ pub struct NoiseArgs {
     pub calibrate: Option<crate::calibrate::Calibrate>,
     /// A trial whose run delay or steal exceeds this percentage of its wall time is noisy
     /// (config key `noise_threshold_percent`, default 2).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub noise_threshold: Option<f64>,
     /// Re-run a noisy trial up to N times, 0 to 10 (config key `retry_noisy`, default 0).
     #[arg(long, value_name = "N")]
     pub retry_noisy: Option<u32>,
     /// A trial more than this percentage below its cell's median FPS is slow and explained
     /// (config key `slow_trial_percent`, default 10).
-    #[arg(long, value_name = "PERCENT")]
+    #[arg(long, value_name = "PERCENT", allow_negative_numbers = true)]
     pub slow_trial_percent: Option<f64>,
 }
 
@@ -214,18 +218,18 @@ pub struct RunArgs {
     #[arg(long, default_value_t = 200)]
     pub frames: u64,
     /// Measured seconds per trial, at least.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub seconds: f64,
     /// A trial stops after this many seconds even short of --frames (default: 10 × --seconds,
     /// at least 10); a cell that stopped short is named on stderr.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub max_seconds: Option<f64>,
     /// Trials per cell, interleaved with the other cells' trials.
     #[arg(long, default_value_t = 3)]
     pub trials: u32,
     /// Seconds a hand-off wait may take before the cell is given up; also the most work a
     /// frame's workload may be.
-    #[arg(long, default_value_t = 5.0)]
+    #[arg(long, default_value_t = 5.0, allow_negative_numbers = true)]
     pub timeout: f64,
     /// Cores for the main and helper threads, e.g. `0,1` (default: the first allowed).
     #[arg(long, value_delimiter = ',')]
@@ -453,7 +457,7 @@ pub struct CompareArgs {
 /// Flags of `oceanbench latency`.
 #[derive(Debug, Args)]
 #[command(
-    after_help = "Examples:\n  oceanbench latency --cores 0,1 --samples 20000 --json latency.json\n  oceanbench latency --matrix"
+    after_help = "Writes results/latency-<UTC>/latency.json, which report, chart and compare read.\n\nExamples:\n  oceanbench latency\n  oceanbench latency --cores 0,1 --samples 20000 --repeats 10 --out results/latency-mine\n  oceanbench compare results/latency-a results/latency-b\n  oceanbench latency --matrix"
 )]
 pub struct LatencyArgs {
     /// The two cores, e.g. `0,1` (default: the first two allowed); with --matrix, the cores
@@ -464,10 +468,17 @@ pub struct LatencyArgs {
     /// does), each pair named near or far against the others.
     #[arg(long)]
     pub matrix: bool,
-    /// Round trips per row (each row also stops after 2 s).
+    /// Round trips per row and repeat (each row also stops after 2 s).
     #[arg(long, default_value_t = 20_000)]
     pub samples: usize,
-    /// Also write the rows as JSON to this file.
+    /// Times the whole table is measured, for the spread compare's verdicts need (1 to 100).
+    #[arg(long, default_value_t = crate::results::latency::DEFAULT_REPEATS)]
+    pub repeats: usize,
+    /// Results directory for latency.json and latency.txt (default: results/latency-<UTC
+    /// timestamp>); not with --matrix.
+    #[arg(long, conflicts_with = "matrix")]
+    pub out: Option<PathBuf>,
+    /// Also write the run (with --matrix, the matrix) as JSON to this file.
     #[arg(long)]
     pub json: Option<PathBuf>,
     /// Waiting for other runs on the same cores.
@@ -488,7 +499,7 @@ pub struct BalanceArgs {
     #[command(flatten)]
     pub select: DimArgs,
     /// Stop when the bracket is narrower than this percentage of the step (default 2).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub tolerance: Option<f64>,
     /// Points of the speed-up curve (default 12).
     #[arg(long)]
@@ -524,11 +535,34 @@ pub struct DoctorArgs {
     #[arg(long, value_delimiter = ',')]
     pub cores: Option<Vec<usize>>,
     /// Seconds to watch the machine for steal, load and busy threads.
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, allow_negative_numbers = true)]
     pub seconds: f64,
     /// Print the findings as JSON.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Flags of `oceanbench completions`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Examples:\n  oceanbench completions bash > ~/.local/share/bash-completion/completions/oceanbench\n  oceanbench completions zsh > ~/.zfunc/_oceanbench\n  oceanbench completions fish > ~/.config/fish/completions/oceanbench.fish"
+)]
+pub struct CompletionsArgs {
+    /// The shell to complete in.
+    #[arg(value_enum)]
+    pub shell: clap_complete::Shell,
+}
+
+/// Flags of `oceanbench man`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Examples:\n  oceanbench man | man -l -\n  oceanbench man --out ~/.local/share/man/man1"
+)]
+pub struct ManArgs {
+    /// Write oceanbench.1 and one oceanbench-<command>.1 per command into this existing folder
+    /// instead of printing the top page.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
 }
 
 /// Flags of `oceanbench placement`.
@@ -658,7 +692,7 @@ pub struct MeshArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub time: f32,
     /// Distance between vertices (the sines; the fft ocean's is its patch ÷ size).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub spacing: f32,
     /// Waves file (JSON); default: the built-in deep-ocean set.
     #[arg(long)]

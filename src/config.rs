@@ -9,7 +9,6 @@ pub use crate::machine::available_memory;
 use crate::ocean::{self, mesh, FftParams, Grid, Mesh, OceanParams, Wave, WaveSet};
 use crate::suggest;
 use crate::workload::{self, KindParams, WorkloadKind};
-use itertools::Itertools;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -31,6 +30,10 @@ pub struct SweepConfig {
     /// The swept lists, one per dimension of a cell, under their own keys.
     #[serde(flatten)]
     pub axes: Axes,
+    /// What reading the config chose that the user did not name (normals fitted to the cells),
+    /// for the command to say once; not part of the file.
+    #[serde(skip)]
+    pub notes: Vec<String>,
     /// Trials per cell.
     pub trials: u32,
     /// Frames thrown away before each trial.
@@ -81,6 +84,7 @@ pub struct SweepConfig {
 impl Default for SweepConfig {
     fn default() -> Self {
         SweepConfig {
+            notes: Vec::new(),
             name: "figure-5-1".into(),
             description: String::new(),
             axes: Axes::default(),
@@ -122,7 +126,8 @@ pub fn default_levels() -> Vec<Level> {
 
 /// Parses a config object. Unknown keys are refused with the closest known one (the keys are
 /// those a default config writes), each dimension's list is parsed alone so that an error names
-/// its place (`modes[1]: ...`), and other fields' errors carry their path.
+/// its place (`modes[1]: ...`), and other fields' errors carry their path. Every unknown key and
+/// bad list is reported, one line each, before the other fields are read.
 fn parse_config(text: &str) -> Result<SweepConfig, InputError> {
     let value: serde_json::Value =
         serde_json::from_str(text).map_err(|e| InputError(format!("not valid JSON: {e}")))?;
@@ -132,15 +137,16 @@ fn parse_config(text: &str) -> Result<SweepConfig, InputError> {
         ));
     };
     let known = SweepConfig::keys();
+    let mut found = Vec::new();
     for (key, list) in object {
         if !known.iter().any(|k| k == key) {
             let known: Vec<&str> = known.iter().map(String::as_str).collect();
-            return Err(InputError(suggest::unknown("field", key, &known)));
-        }
-        if let Some(parsed) = Axes::parse_key(key, list.clone()) {
-            parsed?;
+            found.push(InputError(suggest::unknown("field", key, &known)));
+        } else if let Some(Err(e)) = Axes::parse_key(key, list.clone()) {
+            found.push(e);
         }
     }
+    InputError::all(found)?;
     let names_normals = object.contains_key("normals");
     let mut config: SweepConfig = serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
@@ -151,15 +157,8 @@ fn parse_config(text: &str) -> Result<SweepConfig, InputError> {
             InputError(format!("{path}: {msg}"))
         }
     })?;
-    if !names_normals && !config.axes.ocean.is_empty() {
-        // Each listed model's own normals, rather than the paper's for a model that has better.
-        config.axes.normals = config
-            .axes
-            .ocean
-            .iter()
-            .map(|o| o.model().default_normals())
-            .unique()
-            .collect();
+    if !names_normals {
+        config.notes.extend(config.axes.fit_default_normals());
     }
     Ok(config)
 }
@@ -167,7 +166,7 @@ fn parse_config(text: &str) -> Result<SweepConfig, InputError> {
 impl SweepConfig {
     /// Parses a config file's text and validates it.
     pub fn from_json(text: &str) -> Result<Self, InputError> {
-        let config = parse_config(text).map_err(|e| InputError(format!("config: {e}")))?;
+        let config = parse_config(text).map_err(|e| e.prefixed("config: "))?;
         config.validate()?;
         Ok(config)
     }
@@ -177,7 +176,8 @@ impl SweepConfig {
     pub fn load(path: &Path) -> Result<Self, InputError> {
         let text = std::fs::read_to_string(path)
             .map_err(|e| InputError(format!("config {}: {e}", path.display())))?;
-        let in_file = |e: InputError| InputError(format!("{}: {e}", path.display()));
+        let prefix = format!("{}: ", path.display());
+        let in_file = |e: InputError| e.prefixed(&prefix);
         let mut config = parse_config(&text).map_err(in_file)?;
         if let Some(dir) = path.parent() {
             for file in [&mut config.waves_file, &mut config.fft_params]
@@ -305,133 +305,167 @@ impl SweepConfig {
         }
     }
 
-    /// Checks every field before anything runs.
+    /// Checks every field before anything runs, and reports every field that fails, one line
+    /// each; the cells are crossed only when every field passed, since a cross of bad lists
+    /// would repeat their errors.
     pub fn validate(&self) -> Result<(), InputError> {
-        if self.name.is_empty()
-            || !self
-                .name
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
-        {
-            return Err(InputError(format!(
-                "name: must be non-empty letters, digits, '-', '_' or '.', got {:?}",
-                self.name
-            )));
-        }
-        self.axes.check()?;
-        self.axes.check_coverage()?;
-        if self.workload_levels.is_empty() {
-            return Err(InputError(
-                "workload_levels: must list at least one value".into(),
-            ));
-        }
-        if !(self.spacing.is_finite() && self.spacing > 0.0) {
-            return Err(InputError(format!(
-                "spacing: must be a finite number > 0, got {}",
-                self.spacing
-            )));
-        }
-        for (i, level) in self.workload_levels.iter().enumerate() {
-            level.validate(i, self.max_workload_micros(), &self.axes.workload_kind)?;
-            // A step_fraction level is a fraction of each listed ocean's own yardstick step at
-            // its size, so every listed model must run that size.
-            if let (Some(_), Some(size)) = (level.step_fraction, level.size) {
-                for &ocean in &self.axes.ocean {
-                    let model = ocean.model();
-                    model.check(size, model.yardstick().1).map_err(|e| {
-                        InputError(format!(
-                            "workload_levels[{i}].size: {size} is no size of ocean `{ocean}`'s yardstick: {e}"
-                        ))
-                    })?;
-                }
+        let mut found = Vec::new();
+        let mut check = |result: Result<(), InputError>| {
+            if let Err(e) = result {
+                found.push(e);
             }
+        };
+        check(require(
+            !self.name.is_empty()
+                && self
+                    .name
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c)),
+            || {
+                format!(
+                    "name: must be non-empty letters, digits, '-', '_' or '.', got {:?}",
+                    self.name
+                )
+            },
+        ));
+        check(self.axes.check().and_then(|()| self.axes.check_coverage()));
+        check(require(!self.workload_levels.is_empty(), || {
+            "workload_levels: must list at least one value".into()
+        }));
+        check(require(
+            self.spacing.is_finite() && self.spacing > 0.0,
+            || format!("spacing: must be a finite number > 0, got {}", self.spacing),
+        ));
+        // A check that reads another field runs only when that field passed, so one mistake
+        // gives one line rather than its consequences too.
+        let timeout_ok = self.timeout_seconds.is_finite()
+            && self.timeout_seconds > 0.0
+            && self.timeout_seconds <= 86_400.0;
+        let most_micros = if timeout_ok {
+            self.max_workload_micros()
+        } else {
+            f64::INFINITY
+        };
+        for (i, level) in self.workload_levels.iter().enumerate() {
+            check(level.validate(i, most_micros, &self.axes.workload_kind));
+            check(self.check_level_size(i, level));
         }
-        if let Some(&w) = self
-            .axes
-            .workloads
-            .iter()
-            .find(|&&w| w >= self.workload_levels.len())
-        {
-            return Err(InputError(format!(
-                "workloads: {w} has no level; allowed 0 to {} (workload_levels has {})",
-                self.workload_levels.len() - 1,
-                self.workload_levels.len()
-            )));
+        let levels = self.workload_levels.len();
+        if let Some(&w) = self.axes.workloads.iter().find(|&&w| w >= levels) {
+            check(require(levels == 0, || {
+                format!(
+                    "workloads: {w} has no level; allowed 0 to {} (workload_levels has {levels})",
+                    levels - 1
+                )
+            }));
         }
-        if !(1..=1000).contains(&self.trials) {
-            return Err(InputError(format!(
-                "trials: must be 1 to 1000, got {}",
-                self.trials
-            )));
-        }
-        if self.min_frames == 0 {
-            return Err(InputError("min_frames: must be at least 1, got 0".into()));
-        }
+        check(require((1..=1000).contains(&self.trials), || {
+            format!("trials: must be 1 to 1000, got {}", self.trials)
+        }));
+        check(require(self.min_frames > 0, || {
+            "min_frames: must be at least 1, got 0".into()
+        }));
         let seconds_ok = |v: f64| v.is_finite() && v >= 0.0;
-        if !seconds_ok(self.min_seconds) {
-            return Err(InputError(format!(
+        check(require(seconds_ok(self.min_seconds), || {
+            format!(
                 "min_seconds: must be a finite number >= 0, got {}",
                 self.min_seconds
-            )));
-        }
-        if !(self.max_seconds >= self.min_seconds && self.max_seconds > 0.0) {
-            return Err(InputError(format!(
-                "max_seconds: must be > 0 and >= min_seconds ({}), got {}",
-                self.min_seconds, self.max_seconds
-            )));
-        }
-        if !(self.time_step.is_finite() && self.time_step >= 0.0) {
-            return Err(InputError(format!(
-                "time_step: must be a finite number >= 0, got {}",
-                self.time_step
-            )));
-        }
-        if !(self.timeout_seconds.is_finite()
-            && self.timeout_seconds > 0.0
-            && self.timeout_seconds <= 86_400.0)
-        {
-            return Err(InputError(format!(
+            )
+        }));
+        check(require(
+            !seconds_ok(self.min_seconds)
+                || (self.max_seconds >= self.min_seconds && self.max_seconds > 0.0),
+            || {
+                format!(
+                    "max_seconds: must be > 0 and >= min_seconds ({}), got {}",
+                    self.min_seconds, self.max_seconds
+                )
+            },
+        ));
+        check(require(
+            self.time_step.is_finite() && self.time_step >= 0.0,
+            || {
+                format!(
+                    "time_step: must be a finite number >= 0, got {}",
+                    self.time_step
+                )
+            },
+        ));
+        check(require(timeout_ok, || {
+            format!(
                 "timeout_seconds: must be > 0 and at most 86400, got {}",
                 self.timeout_seconds
-            )));
-        }
-        if !(self.noise_threshold_percent > 0.0 && self.noise_threshold_percent < 100.0) {
-            return Err(InputError(format!(
-                "noise_threshold_percent: must be above 0 and below 100, got {}",
-                self.noise_threshold_percent
-            )));
-        }
-        crate::slow_trials::check_threshold(self.slow_trial_percent)?;
-        if self.retry_noisy > MAX_RETRY_NOISY {
-            return Err(InputError(format!(
+            )
+        }));
+        check(require(
+            self.noise_threshold_percent > 0.0 && self.noise_threshold_percent < 100.0,
+            || {
+                format!(
+                    "noise_threshold_percent: must be above 0 and below 100, got {}",
+                    self.noise_threshold_percent
+                )
+            },
+        ));
+        check(crate::slow_trials::check_threshold(self.slow_trial_percent));
+        check(require(self.retry_noisy <= MAX_RETRY_NOISY, || {
+            format!(
                 "retry_noisy: must be 0 to {MAX_RETRY_NOISY}, got {}",
                 self.retry_noisy
-            )));
-        }
+            )
+        }));
         if let Some(b) = &self.balance {
-            b.validate("balance.")?;
+            check(b.validate("balance."));
         }
-        self.camera.validate()?;
+        check(self.camera.validate());
         for name in self.kinds.keys() {
-            if let Some(kind) = workload::lookup(name) {
-                self.kind_params(WorkloadKind::named(kind.name()))?;
+            check(if let Some(kind) = workload::lookup(name) {
+                self.kind_params(WorkloadKind::named(kind.name())).map(drop)
             } else if ocean::lookup(name).is_none() {
-                return Err(InputError(format!(
+                Err(InputError(format!(
                     "{name}: no registered workload kind or ocean model has this key \
                      (registered: {}; {})",
                     workload::names().join(", "),
                     ocean::names().join(", ")
-                )));
-            }
+                )))
+            } else {
+                Ok(())
+            });
         }
-        self.ocean_params()?;
-        self.placement()?;
+        check(self.ocean_params().map(drop));
+        check(self.placement().map(drop));
+        InputError::all(found)?;
         for key in self.axes.cells() {
             // The lists are crossed, so one bad pair would otherwise fail cells mid-sweep.
             key.runnable().values()?;
             check_memory(&key, Grid::new(key.size, self.spacing)?)?;
         }
         Ok(())
+    }
+
+    /// A step_fraction level is a fraction of each listed ocean's own yardstick step at its
+    /// size, so every listed model must run that size.
+    fn check_level_size(&self, i: usize, level: &Level) -> Result<(), InputError> {
+        let (Some(_), Some(size)) = (level.step_fraction, level.size) else {
+            return Ok(());
+        };
+        for &ocean in &self.axes.ocean {
+            let model = ocean.model();
+            model.check(size, model.yardstick().1).map_err(|e| {
+                InputError(format!(
+                    "workload_levels[{i}].size: {size} is no size of ocean `{ocean}`'s yardstick: {e}"
+                ))
+            })?;
+        }
+        Ok(())
+    }
+}
+
+/// `Ok` when `ok` holds, else the error `message` describes.
+fn require(ok: bool, message: impl FnOnce() -> String) -> Result<(), InputError> {
+    if ok {
+        Ok(())
+    } else {
+        Err(InputError(message()))
     }
 }
 

@@ -13,33 +13,7 @@ use std::time::{Duration, Instant};
 /// Most time one row of the table may take: `spin` on one core needs a scheduler tick per trip.
 const ROW_BUDGET: Duration = Duration::from_secs(2);
 
-/// One measured row: a method on one placement.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct LatencyRow {
-    /// `ping-pong` for the raw cache line, else the hand-off method's name.
-    pub method: String,
-    /// Main thread's core.
-    pub main_core: usize,
-    /// Helper's core (equal to `main_core` on one core).
-    pub helper_core: usize,
-    /// Median round trip (ns) over batches of round trips timed with one clock read per batch:
-    /// the central figure, free of the clock's own cost (absent in files from before).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub batched_ns: Option<f64>,
-    /// Median round trip (ns), each trip timed on its own (clock reads included).
-    pub median_ns: f64,
-    /// 99th percentile round trip (ns), each trip timed on its own.
-    pub p99_ns: f64,
-    /// Round trips timed (fewer than asked when the row's time budget ran out).
-    pub samples: usize,
-    /// CPU time both threads spent per round trip (ns; each thread's CPU clock over its trips):
-    /// a method that waits by polling shows about the wall time per thread, one that sleeps
-    /// far less. Absent for the ping-pong and where the thread CPU clock is unavailable.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub cpu_ns: Option<f64>,
-    /// Whether both pins held.
-    pub pinned: bool,
-}
+pub use crate::results::latency::{LatencyRow, MethodRepeats, BATCH};
 
 impl LatencyRow {
     fn from_samples(method: &str, main: usize, helper: usize, ns: Vec<f64>, pinned: bool) -> Self {
@@ -74,9 +48,6 @@ fn echo(
         (pin.held, cpu.map(|ns| ns as f64 / trips.max(1) as f64))
     })
 }
-
-/// Round trips per batch in the batched timing.
-pub const BATCH: u64 = 64;
 
 /// One side's timing of a row's round trips.
 #[derive(Default)]
@@ -300,6 +271,27 @@ pub fn table(a: usize, b: usize, samples: usize) -> Vec<LatencyRow> {
         }
         for method in SyncMethod::of_policy(Policy::Latest) {
             rows.extend(mailbox_round_trip(method, main, helper, samples));
+        }
+    }
+    rows
+}
+
+/// The whole table `repeats` times over, one repeat's rows after another so that a drift of the
+/// machine spreads over every method rather than landing on one; the run's times and machine
+/// are filled in by the caller.
+pub fn repeated(a: usize, b: usize, samples: usize, repeats: usize) -> Vec<MethodRepeats> {
+    let mut rows: Vec<MethodRepeats> = Vec::new();
+    for _ in 0..repeats {
+        for (i, row) in table(a, b, samples).into_iter().enumerate() {
+            match rows.get_mut(i) {
+                Some(r) => r.repeats.push(row),
+                None => rows.push(MethodRepeats {
+                    method: row.method.clone(),
+                    main_core: row.main_core,
+                    helper_core: row.helper_core,
+                    repeats: vec![row],
+                }),
+            }
         }
     }
     rows

@@ -1,6 +1,6 @@
 //! The oceanbench binary: parses the command line, dispatches, maps errors to exit statuses
 //! (2 for bad input, 1 for a failure while running, 130 when interrupted) and prints each error
-//! as one line.
+//! as one line (a config with several errors, one line each).
 
 use clap::error::ErrorKind;
 use clap::Parser;
@@ -32,7 +32,9 @@ fn main() -> ExitCode {
     match execute(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("oceanbench: {e}");
+            for line in e.to_string().lines() {
+                eprintln!("oceanbench: {line}");
+            }
             ExitCode::from(e.exit_code())
         }
     }

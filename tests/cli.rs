@@ -25,7 +25,18 @@ fn bad_flags_exit_2_with_one_line() {
     refuses(&["run", "--size", "1"], &["size", "2 to"]);
     refuses(&["run", "--size", "abc"], &["--size"]);
     refuses(&["run", "--workload", "9"], &["workloads", "0 to 3"]);
-    refuses(&["run", "--trials", "0"], &["trials"]);
+    refuses(&["run", "--trials", "0"], &["trials", "1 to 1000"]);
+    // A negative number is a value out of range, not an unknown argument.
+    refuses(&["run", "--seconds", "-1"], &["min_seconds", ">= 0", "-1"]);
+    refuses(
+        &["run", "--timeout", "-3"],
+        &["timeout_seconds", "at most 86400"],
+    );
+    refuses(
+        &["run", "--noise-threshold", "-4"],
+        &["noise_threshold", "below 100"],
+    );
+    refuses(&["latency", "--samples", "0"], &["--samples", "1 to"]);
     refuses(&["run", "--cores", "0,999"], &["cores", "allowed"]);
     refuses(
         &["run", "--normals", "lookup", "--size", "300"],
@@ -69,11 +80,11 @@ fn bad_configs_exit_2_naming_the_field() {
             vec!["max_seconds"],
         ),
         (
-            r#"{"workload_levels": [{"micros": -5}]}"#,
+            r#"{"workloads": [0], "workload_levels": [{"micros": -5}]}"#,
             vec!["workload_levels[0].micros"],
         ),
         (
-            r#"{"workload_levels": [{"step_fraction": 1}]}"#,
+            r#"{"workloads": [0], "workload_levels": [{"step_fraction": 1}]}"#,
             vec!["workload_levels[0]"],
         ),
         (
@@ -160,6 +171,48 @@ fn bad_configs_exit_2_naming_the_field() {
         &["sweep", "/nonexistent/config.json"],
         &["/nonexistent/config.json"],
     );
+}
+
+#[test]
+fn a_config_with_several_errors_lists_them_all_one_line_each() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(
+        dir.path(),
+        "several.json",
+        r#"{"trials": 0, "spacing": -1, "workloads": [7], "camera": {"height": 0}, "cores": [0, 0]}"#,
+    );
+    let out_dir = dir.path().join("out");
+    let out = oceanbench(&["sweep", &path, "--out", out_dir.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let lines: Vec<&str> = stderr.lines().collect();
+    let fields = [
+        "spacing:",
+        "workloads: 7",
+        "trials:",
+        "camera.height",
+        "cores:",
+    ];
+    assert_eq!(lines.len(), fields.len(), "one line per error: {stderr}");
+    for field in fields {
+        let line = lines.iter().find(|l| l.contains(field));
+        let line = line.unwrap_or_else(|| panic!("no line names {field}: {stderr}"));
+        assert!(line.starts_with(&format!("oceanbench: {path}: ")), "{line}");
+    }
+    assert!(!out_dir.exists(), "nothing is written for a bad config");
+
+    let unknown = write(
+        dir.path(),
+        "unknown.json",
+        r#"{"sizez": [40], "modes": ["tri"], "wavez": []}"#,
+    );
+    let out = oceanbench(&["sweep", &unknown]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    for needle in ["`sizez`", "modes[0]", "`wavez`"] {
+        assert!(stderr.contains(needle), "{needle} missing: {stderr}");
+    }
+    assert_eq!(stderr.lines().count(), 3, "{stderr}");
 }
 
 /// Runs `oceanbench mesh` with `args`, its CSV written in `dir`: the header and the rows.
@@ -521,18 +574,32 @@ fn sigterm_keeps_finished_cells_and_prints_the_resume_command() {
 #[test]
 fn latency_lists_the_floor_and_every_method_on_each_placement() {
     let dir = tempfile::tempdir().unwrap();
-    let json = dir.path().join("latency.json");
+    let run_dir = dir.path().join("run");
+    let json = dir.path().join("copy.json");
     let out = oceanbench(&[
         "latency",
         "--samples",
         "40",
+        "--repeats",
+        "2",
+        "--out",
+        run_dir.to_str().unwrap(),
         "--json",
         json.to_str().unwrap(),
     ]);
     assert_success(&out);
     let text = String::from_utf8_lossy(&out.stdout);
-    let rows: Vec<serde_json::Value> =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let file = std::fs::read_to_string(run_dir.join("latency.json")).unwrap();
+    assert_eq!(file, std::fs::read_to_string(&json).unwrap());
+    let run: serde_json::Value = serde_json::from_str(&file).unwrap();
+    assert_eq!(run["schema_version"], 1);
+    assert_eq!(run["repeats"], 2);
+    assert!(
+        run["machine"]["cpu_model"].is_string(),
+        "the machine is recorded"
+    );
+    assert!(run["started"].as_str().unwrap().ends_with('Z'));
+    let rows = run["rows"].as_array().unwrap();
     let two_cores = oceanbench::affinity::allowed_cores().len() > 1;
     use oceanbench::sync::{Policy, SyncMethod};
     let methods: Vec<String> = SyncMethod::of_policy(Policy::Fifo)
@@ -553,18 +620,109 @@ fn latency_lists_the_floor_and_every_method_on_each_placement() {
     if two_cores {
         assert!(text.contains("ping-pong"));
     }
-    for r in &rows {
-        let (median, p99) = (
-            r["median_ns"].as_f64().unwrap(),
-            r["p99_ns"].as_f64().unwrap(),
-        );
-        assert!(median > 0.0 && p99 >= median, "{r}");
-        assert!(r["samples"].as_u64().unwrap() > 0);
-        if r["method"] != "ping-pong" && cfg!(target_os = "linux") {
-            assert!(r["cpu_ns"].as_f64().unwrap() > 0.0, "{r}");
+    for row in rows {
+        let repeats = row["repeats"].as_array().unwrap();
+        assert_eq!(repeats.len(), 2, "{row}");
+        for r in repeats {
+            assert_eq!(r["method"], row["method"]);
+            let (median, p99) = (
+                r["median_ns"].as_f64().unwrap(),
+                r["p99_ns"].as_f64().unwrap(),
+            );
+            assert!(median > 0.0 && p99 >= median, "{r}");
+            assert!(r["samples"].as_u64().unwrap() > 0);
+            if r["method"] != "ping-pong" && cfg!(target_os = "linux") {
+                assert!(r["cpu_ns"].as_f64().unwrap() > 0.0, "{r}");
+            }
         }
     }
     refuses(&["latency", "--samples", "0"], &["--samples"]);
+    refuses(&["latency", "--repeats", "0"], &["--repeats", "1 to 100"]);
+    // A folder already holding a run is refused before anything is measured.
+    refuses(
+        &["latency", "--out", run_dir.to_str().unwrap()],
+        &["--out", "already holds latency.json"],
+    );
+    assert_eq!(
+        std::fs::read_to_string(run_dir.join("latency.json")).unwrap(),
+        file
+    );
+}
+
+/// Two latency runs compare method by method over their repeats, and report draws a page of
+/// each; a run from before repeats were kept loads but earns no verdict.
+#[test]
+fn latency_runs_are_compared_and_reported_like_sweeps() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |name: &str| {
+        let path = dir.path().join(name);
+        let args = ["latency", "--samples", "20", "--repeats", "5", "--out"];
+        assert_success(&oceanbench(
+            &[&args[..], &[path.to_str().unwrap()]].concat(),
+        ));
+        path.to_str().unwrap().to_string()
+    };
+    let (a, b) = (run("a"), run("b"));
+    let out = oceanbench(&["compare", &a, &b, "--format", "json"]);
+    assert!(matches!(out.status.code(), Some(0 | 1)), "{out:?}");
+    let c: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(c["metric"], "round-trip");
+    let rows = std::fs::read_to_string(Path::new(&a).join("latency.json")).unwrap();
+    let rows = serde_json::from_str::<serde_json::Value>(&rows).unwrap()["rows"]
+        .as_array()
+        .unwrap()
+        .len();
+    let changes = c["changes"].as_array().unwrap();
+    assert_eq!(changes.len(), rows, "every method on every placement");
+    for ch in changes {
+        assert_eq!(ch["base_trials"], 5);
+        assert_eq!(ch["new_trials"], 5);
+        assert_ne!(ch["verdict"], "too-few-trials", "{ch}");
+        assert!(ch["label"].as_str().unwrap().contains(" on "), "{ch}");
+    }
+    let page = dir.path().join("page.html");
+    assert_success(&oceanbench(&[
+        "report",
+        &b,
+        "--baseline",
+        &a,
+        "--out",
+        page.to_str().unwrap(),
+    ]));
+    let html = std::fs::read_to_string(&page).unwrap();
+    for needle in [
+        "id=\"verdict-baseline\"",
+        "Round trip per method",
+        "atomic",
+        "CPU",
+    ] {
+        assert!(html.contains(needle), "{needle}");
+    }
+    // The committed run from before: one repeat per row, no machine.
+    let old = "results/latency-20261125T085346Z";
+    let out = oceanbench(&["compare", old, &b, "--format", "json"]);
+    assert_success(&out);
+    let c: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(c["changes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|ch| ch["verdict"] == "too-few-trials"));
+    assert!(c["warnings"][0]
+        .as_str()
+        .unwrap()
+        .contains("records no machine"));
+    refuses(&["compare", &a, FIXTURE], &["latency run", "not"]);
+    refuses(&["compare", FIXTURE, &a], &["latency run", "not"]);
+    refuses(
+        &["compare", &a, &b, "--metric", "wait-cpu"],
+        &["--metric", "round trip"],
+    );
+    refuses(
+        &["compare", FIXTURE, FIXTURE, "--metric", "round-trip"],
+        &["--metric", "latency"],
+    );
+    refuses(&["chart", &a], &["latency run", "report"]);
 }
 
 #[test]
@@ -955,5 +1113,66 @@ fn run_fits_the_normals_nobody_gave_to_the_cells_asked_for() {
     refuses(
         &["run", "--grid", "projected", "--normals", "neighbors"],
         &["neighbors"],
+    );
+}
+
+#[test]
+fn a_config_naming_no_normals_gets_normals_its_cells_can_run() {
+    for (key, value) in [("grid", r#"["projected"]"#), ("helpers", "[2]")] {
+        let text = format!(r#"{{"sizes": [16], "ocean": ["sines"], "{key}": {value}}}"#);
+        let config = SweepConfig::from_json(&text).unwrap();
+        assert_eq!(config.axes.normals, vec![NormalMethod::Analytic], "{key}");
+        assert_eq!(config.notes.len(), 1, "said once: {:?}", config.notes);
+        assert!(config.notes[0].contains("the default (neighbors) cannot run these cells"));
+        // Named normals the cells cannot use are still refused.
+        let named = format!(r#"{{"sizes": [16], "normals": ["neighbors"], "{key}": {value}}}"#);
+        let e = SweepConfig::from_json(&named).unwrap_err().to_string();
+        assert!(e.contains("neighbors"), "{e}");
+    }
+    // A config the defaults fit says nothing.
+    let plain = SweepConfig::from_json(r#"{"sizes": [16]}"#).unwrap();
+    assert!(plain.notes.is_empty());
+    assert_eq!(plain.axes.normals, vec![NormalMethod::Neighbors]);
+}
+
+#[test]
+fn completions_and_man_pages_cover_every_command() {
+    use clap::CommandFactory;
+    let cli = oceanbench::cli::Cli::command();
+    let commands: Vec<String> = cli
+        .get_subcommands()
+        .map(|c| c.get_name().to_string())
+        .collect();
+    for shell in ["bash", "zsh", "fish"] {
+        let out = oceanbench(&["completions", shell]);
+        assert_success(&out);
+        let script = String::from_utf8_lossy(&out.stdout);
+        for name in &commands {
+            assert!(script.contains(name.as_str()), "{shell}: no {name}");
+        }
+        assert!(script.contains("--baseline"), "{shell}: flags completed");
+    }
+    let out = oceanbench(&["man"]);
+    assert_success(&out);
+    let page = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        page.starts_with(".ie") && page.contains(".TH oceanbench 1"),
+        "{page}"
+    );
+    for name in &commands {
+        assert!(page.contains(&format!("oceanbench\\-{}(1)", name.replace('-', "\\-"))));
+    }
+
+    let dir = tempfile::tempdir().unwrap();
+    assert_success(&oceanbench(&["man", "--out", dir.path().to_str().unwrap()]));
+    for name in &commands {
+        let file = dir.path().join(format!("oceanbench-{name}.1"));
+        let text = std::fs::read_to_string(&file).unwrap();
+        assert!(text.contains(".SH SYNOPSIS"), "{}", file.display());
+    }
+    refuses(&["completions", "tcsh"], &["tcsh", "bash, elvish, fish"]);
+    refuses(
+        &["man", "--out", "/nonexistent/man1"],
+        &["--out", "/nonexistent/man1"],
     );
 }

@@ -90,7 +90,7 @@ fn every_cell_is_in_the_fps_and_frame_time_tables() {
         assert!(found, "{} ({figure}) is in no FPS table", c.key.label());
         let row = frames[0]
             .iter()
-            .find(|row| row[0] == c.key.label_without(&held))
+            .find(|row| row[0] == format!("{}{}", c.key.label_without(&held), markdown::marks(c)))
             .unwrap_or_else(|| panic!("{} has no frame-time row", c.key.label()));
         assert_eq!(row[1], format!("{:.3}", s.frame_time_ms.median));
         assert_eq!(row[2], format!("{:.3}", s.frame_time_ms.p99));
@@ -110,6 +110,69 @@ fn noisy_cells_carry_the_markdown_mark() {
         .filter(|v| v.contains(markdown::NOISY))
         .count();
     assert_eq!(marked, noisy.len());
+}
+
+/// The frame-time table reads in order (size, workload, mode) with each cell's marks, its
+/// labels explained beneath it, and a table longer than a screenful starts collapsed.
+#[test]
+fn tables_are_sorted_marked_explained_and_long_ones_collapsed() {
+    let r = Results::load(&root().join("results/fft-spray-20261125T162607Z")).unwrap();
+    let doc = page(&r);
+    let frames = tables(&doc, "Frame-time metrics");
+    assert_eq!(frames[0].len(), r.cells.len());
+    let mut order: Vec<_> = r
+        .cells
+        .iter()
+        .map(|c| (c.key.size, c.key.workload, c.key.mode))
+        .collect();
+    order.sort();
+    let held: Vec<Dim> = html::held_dims(&r).iter().map(|&(d, _)| d).collect();
+    for (row, want) in frames[0].iter().zip(&order) {
+        let cell = r
+            .cells
+            .iter()
+            .find(|c| row[0] == format!("{}{}", c.key.label_without(&held), markdown::marks(c)))
+            .unwrap_or_else(|| panic!("no cell is labelled {}", row[0]));
+        assert_eq!((cell.key.size, cell.key.workload, cell.key.mode), *want);
+    }
+    let marked = r
+        .cells
+        .iter()
+        .filter(|c| !markdown::marks(c).is_empty())
+        .count();
+    assert!(marked > 0, "the run has marked cells");
+    let rows_marked = frames[0]
+        .iter()
+        .filter(|row| {
+            [markdown::NOISY, markdown::UNEXPLAINED, markdown::MIXED]
+                .iter()
+                .any(|m| row[0].contains(m))
+        })
+        .count();
+    assert_eq!(rows_marked, marked);
+    let notes: Vec<String> = doc.select(&sel("p.note")).map(text).collect();
+    let legend = notes
+        .iter()
+        .find(|n| n.starts_with("Cell labels"))
+        .expect("a legend of the labels");
+    for part in [
+        "h2 = 2 helpers",
+        "d2 = depth 2",
+        "handle = handle consume",
+        "w2 = workload 2",
+    ] {
+        assert!(legend.contains(part), "{part}: {legend}");
+    }
+    for details in doc.select(&sel("details.long-table")) {
+        let rows = details.select(&sel("tbody tr")).count();
+        assert!(rows > 40, "only long tables collapse: {rows}");
+    }
+    let long = doc
+        .select(&sel("table"))
+        .filter(|t| t.select(&sel("tbody tr")).count() > 40)
+        .count();
+    assert!(long > 0, "the run has a long table");
+    assert_eq!(doc.select(&sel("details.long-table")).count(), long);
 }
 
 #[test]
@@ -491,6 +554,20 @@ fn the_page_opens_with_the_verdict_and_links_every_section() {
     let shown: Vec<String> = doc.select(&sel("#findings li")).map(text).collect();
     assert_eq!(shown.len(), findings.len());
     assert!(!shown.is_empty() && shown[0] == findings[0].sentence);
+    let machine = text(doc.select(&sel("#verdict-machine")).next().unwrap());
+    assert!(machine.contains(&results.machine.cpu_model), "{machine}");
+    // A run of several slices heads each slice's findings with its values.
+    let mut fog = Results::load(&root().join("results/fog-20261125T163342Z")).unwrap();
+    oceanbench::findings::placement::label(&mut fog);
+    let fog_doc = page(&fog);
+    let headings: Vec<String> = fog_doc.select(&sel("#findings h3")).map(text).collect();
+    let fog_findings = oceanbench::findings::of(&fog);
+    let groups = fog_findings.grouped();
+    assert!(groups.len() >= 3, "two kinds and the run-wide findings");
+    let want: Vec<String> = groups.iter().filter_map(|(h, _)| h.clone()).collect();
+    assert_eq!(headings, want);
+    assert!(headings.iter().any(|h| h.contains("fog")), "{headings:?}");
+    assert_eq!(headings.last().map(String::as_str), Some("Across the run"));
     let links: Vec<String> = doc
         .select(&sel("#contents a"))
         .map(|a| a.value().attr("href").unwrap().to_string())

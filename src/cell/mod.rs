@@ -349,6 +349,40 @@ impl Axes {
             .collect()
     }
 
+    /// Gives normals nobody named: each listed model's own (neighbors for the sines, as the
+    /// paper; analytic for the FFT ocean), unless a crossed cell cannot run with them (the
+    /// projected grid, or helpers splitting the rows); then the first method every cell can
+    /// run, analytic first, and the sentence that says so, for the caller to print once.
+    pub fn fit_default_normals(&mut self) -> Option<String> {
+        if self.ocean.is_empty() {
+            return None;
+        }
+        self.normals = self
+            .ocean
+            .iter()
+            .map(|o| o.model().default_normals())
+            .unique()
+            .collect();
+        let why = self.refusal()?;
+        let default = self.normals.clone();
+        for normals in [
+            NormalMethod::Analytic,
+            NormalMethod::Neighbors,
+            NormalMethod::Lookup,
+        ] {
+            self.normals = vec![normals];
+            if self.refusal().is_none() {
+                let default: Vec<&str> = default.iter().map(|n| n.name()).collect();
+                return Some(format!(
+                    "normals {normals}: the default ({}) cannot run these cells ({why})",
+                    default.join(", ")
+                ));
+            }
+        }
+        self.normals = default;
+        None
+    }
+
     /// Why the first of the crossed cells that cannot run is refused (a combination or a
     /// value), if one cannot.
     pub fn refusal(&self) -> Option<InputError> {

@@ -27,6 +27,18 @@ pub(super) fn chart(args: ChartArgs) -> Result<(), CliError> {
             }
         }
     }
+    if let Some(run) = args
+        .results
+        .iter()
+        .find(|p| crate::results::latency::LatencyRun::is_latency_run(p))
+    {
+        return Err(InputError(format!(
+            "{}: a latency run has no charts; `oceanbench report {}` shows its round trips and `compare` its changes",
+            run.display(),
+            run.display()
+        ))
+        .into());
+    }
     let runs = args
         .results
         .iter()

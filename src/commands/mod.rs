@@ -15,6 +15,7 @@ mod mesh;
 mod placement;
 mod report;
 mod run;
+mod shell;
 mod sweep;
 
 use crate::affinity;
@@ -72,6 +73,8 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
         Command::Findings(args) => findings::findings(args),
         Command::Docs(args) => docs::docs(args),
         Command::BenchRecord(args) => bench_record::bench_record(args),
+        Command::Completions(args) => shell::completions(args),
+        Command::Man(args) => shell::man(args),
         Command::Export(args) => export::export(args),
         Command::History(args) => history::history(args),
     }
@@ -110,12 +113,14 @@ fn prepare_out_dir(dir: &Path) -> Result<Lock, CliError> {
     std::fs::create_dir_all(dir)
         .map_err(|e| InputError(format!("--out: cannot create {}: {e}", dir.display())))?;
     let lock = lock_out_dir(dir, "--out")?;
-    if dir.join("results.json").exists() {
-        return Err(InputError(format!(
-            "--out: {} already holds results.json; choose another directory",
-            dir.display()
-        ))
-        .into());
+    for file in ["results.json", crate::results::latency::FILE_NAME] {
+        if dir.join(file).exists() {
+            return Err(InputError(format!(
+                "--out: {} already holds {file}; choose another directory",
+                dir.display()
+            ))
+            .into());
+        }
     }
     Ok(lock)
 }

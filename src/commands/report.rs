@@ -7,6 +7,7 @@ use crate::config::InputError;
 use crate::report::compare::{self, Metric};
 use crate::report::html::{self, Baseline};
 use crate::report::json;
+use crate::results::latency::LatencyRun;
 use crate::results::Results;
 use std::path::{Path, PathBuf};
 
@@ -14,6 +15,9 @@ pub(super) fn report(args: ReportArgs) -> Result<(), CliError> {
     check_threshold(args.threshold)?;
     if let Some(out) = &args.out {
         check_out_file("--out", out)?;
+    }
+    if LatencyRun::is_latency_run(&args.results) {
+        return latency_report(&args);
     }
     let results = load_results(&args.results)?;
     let comparison = match &args.baseline {
@@ -54,6 +58,47 @@ pub(super) fn write(
         .map_err(anyhow::Error::from)?;
     json::write_atomic(out, page.as_bytes())
         .map_err(|e| anyhow::anyhow!("writing {}: {e}", out.display()))?;
+    Ok(())
+}
+
+/// The page of a latency run, against another latency run with `--baseline`.
+fn latency_report(args: &ReportArgs) -> Result<(), CliError> {
+    let load = |p: &Path| LatencyRun::load(p).map_err(|e| InputError(e.to_string()));
+    let run = load(&args.results)?;
+    if args.refresh {
+        return Err(InputError(
+            "--refresh: a latency run has no results.md or findings.json to rewrite".into(),
+        )
+        .into());
+    }
+    let comparison = match &args.baseline {
+        Some(path) if !LatencyRun::is_latency_run(path) => {
+            return Err(InputError(format!(
+                "--baseline: {} is no latency run; a latency run is compared with another",
+                path.display()
+            ))
+            .into())
+        }
+        Some(path) => {
+            let c = compare::latency_between(&load(path)?, &run, args.threshold);
+            if let Some(why) = c.nothing_compared() {
+                return Err(InputError(format!("--baseline: {why}")).into());
+            }
+            Some((path.display().to_string(), c))
+        }
+        None => None,
+    };
+    let baseline = comparison
+        .as_ref()
+        .map(|(name, comparison)| Baseline { name, comparison });
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| default_path(&results_dir(&args.results)));
+    let page = html::latency_page(&run, &args.results.display().to_string(), baseline.as_ref());
+    json::write_atomic(&out, page.as_bytes())
+        .map_err(|e| anyhow::anyhow!("writing {}: {e}", out.display()))?;
+    println!("report: {}", out.display());
     Ok(())
 }
 

@@ -7,12 +7,10 @@ use crate::config::{InputError, Level, SweepConfig};
 use crate::frame_log::FrameLogger;
 use crate::frame_loop::Mode;
 use crate::machine::Machine;
-use crate::ocean::NormalMethod;
 use crate::report;
 use crate::results::Results;
 use crate::sweep::Sweep;
 use crate::workload::WorkloadKind;
-use itertools::Itertools;
 
 /// The cell `run` measures when its flags are left out: a mid-size mesh in DP, where the
 /// hand-off matters, rather than the sweep's first values.
@@ -52,47 +50,14 @@ fn ignored_flags(cell: &DimArgs, axes: &Axes) -> Vec<String> {
         .collect()
 }
 
-/// Normals the flags left out take each listed model's own (as a config that names none),
-/// unless a cell the flags ask for cannot run with them: then the first method every cell can run, analytic first (the cheapest, and the
-/// one the projected grid and split rows need), and the note that says so. `run --grid
-/// projected` and `run --helpers 2` so run rather than refuse a value nobody gave.
-fn fit_normals(axes: &mut Axes, cell: &DimArgs) -> Option<String> {
-    if cell.get(Dim::Normals).is_some() {
-        return None;
-    }
-    axes.normals = axes
-        .ocean
-        .iter()
-        .map(|o| o.model().default_normals())
-        .unique()
-        .collect();
-    let why = axes.refusal()?;
-    let default = axes.normals.clone();
-    for normals in [
-        NormalMethod::Analytic,
-        NormalMethod::Neighbors,
-        NormalMethod::Lookup,
-    ] {
-        axes.normals = vec![normals];
-        if axes.refusal().is_none() {
-            return Some(format!(
-                "--normals {normals}: the default ({}) cannot run these cells ({why})",
-                default
-                    .iter()
-                    .map(|n| n.name())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ));
-        }
-    }
-    axes.normals = default;
-    None
-}
-
 pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
     let mut cells = axes(&args.cell);
-    if let Some(note) = fit_normals(&mut cells, &args.cell) {
-        eprintln!("oceanbench: {note}");
+    // Normals the flags left out are fitted as a config's are, so `run --grid projected` and
+    // `run --helpers 2` run rather than refuse a value nobody gave.
+    if args.cell.get(Dim::Normals).is_none() {
+        if let Some(note) = cells.fit_default_normals() {
+            eprintln!("oceanbench: --{note}");
+        }
     }
     let ignored = ignored_flags(&args.cell, &cells);
     if !ignored.is_empty() {

@@ -98,7 +98,12 @@ fn start(args: &SweepArgs) -> Result<Option<Start>, CliError> {
         }
         config.validate()?;
         let frame_log = frame_logger(args, &crate::sweep::cells(&config))?;
-        if let Some(note) = crate::sweep::kind_skips(&config) {
+        for note in config
+            .notes
+            .iter()
+            .cloned()
+            .chain(crate::sweep::kind_skips(&config))
+        {
             eprintln!("oceanbench: {note}");
         }
         let dir = args

@@ -808,6 +808,31 @@ pub fn of(results: &Results) -> Findings {
 }
 
 impl Findings {
+    /// The findings in runs of one slice each, in order, each headed by its slice's label
+    /// (`Across the run` for run-wide ones); one run with no heading when the run has one slice.
+    pub fn grouped(&self) -> Vec<(Option<String>, Vec<&Finding>)> {
+        let several = !self.slice_dims.is_empty();
+        let mut out: Vec<(Option<String>, Vec<&Finding>)> = Vec::new();
+        let mut last: Option<&Slice> = None;
+        for f in &self.findings {
+            if out.is_empty() || (several && last != Some(&f.slice)) {
+                let heading = several.then(|| {
+                    if f.slice.values.is_empty() {
+                        "Across the run".to_string()
+                    } else {
+                        f.slice.label()
+                    }
+                });
+                out.push((heading, Vec::new()));
+                last = Some(&f.slice);
+            }
+            if let Some((_, group)) = out.last_mut() {
+                group.push(f);
+            }
+        }
+        out
+    }
+
     /// The findings as a markdown section: one list per slice, run-wide ones last.
     pub fn to_markdown(&self) -> String {
         let mut out = String::from("## Findings\n\n");
@@ -815,23 +840,13 @@ impl Findings {
             out.push_str("No finished cell yet.\n\n");
             return out;
         }
-        let mut last: Option<&Slice> = None;
-        let several = !self.slice_dims.is_empty();
-        for f in &self.findings {
-            if several && last != Some(&f.slice) {
-                let heading = if f.slice.values.is_empty() {
-                    "Across the run".to_string()
-                } else {
-                    f.slice.label()
-                };
-                let _ = writeln!(
-                    out,
-                    "{}**{heading}**\n",
-                    if last.is_some() { "\n" } else { "" }
-                );
-                last = Some(&f.slice);
+        for (i, (heading, group)) in self.grouped().iter().enumerate() {
+            if let Some(heading) = heading {
+                let _ = writeln!(out, "{}**{heading}**\n", if i > 0 { "\n" } else { "" });
             }
-            let _ = writeln!(out, "- {}", f.sentence);
+            for f in group {
+                let _ = writeln!(out, "- {}", f.sentence);
+            }
         }
         out.push('\n');
         out

@@ -67,6 +67,11 @@ pub fn all() -> Vec<(&'static str, &'static str, String)> {
             crate::report::compare::MIN_TRIALS.to_string(),
         ),
         (
+            "latency_repeats",
+            "the repeats `oceanbench latency` measures by default",
+            crate::results::latency::DEFAULT_REPEATS.to_string(),
+        ),
+        (
             "max_depth",
             "the deepest run-ahead ring",
             crate::frame_loop::MAX_DEPTH.to_string(),

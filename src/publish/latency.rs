@@ -1,6 +1,7 @@
-//! `latency` blocks: a committed `oceanbench latency` run (`results/latency-<UTC>/latency.json`,
-//! a bare list of rows) as a table, or one of its numbers. The file records no machine and no
-//! commit (its folder's README.md says how it was made), so every number says so beside it.
+//! `latency` blocks: a committed `oceanbench latency` run (`results/latency-<UTC>/latency.json`)
+//! as a table, or one of its numbers, each row the median over the run's repeats. Every number
+//! says beside it what the run records of its machine and commit: a bare list of rows from
+//! before runs kept them records neither (its folder's README.md says how it was made).
 //!
 //! - `<!-- ob:latency run=R -->` on its own line: a row per method with its one-core and two-core
 //!   batched / p99 round trip and CPU time, and × floor (batched ÷ the ping-pong's batched on the
@@ -14,11 +15,11 @@
 use super::blocks::Block;
 use super::{qualified, BlockError};
 use crate::latency::LatencyRow;
+use crate::results::latency::LatencyRun;
 use std::fmt::Write;
 use std::path::Path;
 
-/// The file a latency run keeps its rows in.
-pub const FILE_NAME: &str = "latency.json";
+use crate::results::latency::FILE_NAME;
 
 /// What every number of a latency run carries beside it.
 pub const UNRECORDED: &str = "no machine or commit recorded";
@@ -30,6 +31,8 @@ const FLOOR: &str = "ping-pong";
 struct Run {
     name: String,
     rows: Vec<LatencyRow>,
+    /// What the run records of its machine and commit, said beside every number.
+    recorded: String,
 }
 
 /// Where a row's two threads ran.
@@ -72,13 +75,21 @@ fn load(root: &Path, block: &Block) -> Result<Run, BlockError> {
             "run `{name}` does not exist (no results/{name}/{FILE_NAME})"
         ));
     }
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let rows: Vec<LatencyRow> = serde_json::from_str(&text)
-        .map_err(|e| format!("results/{name}/{FILE_NAME} is no list of latency rows: {e}"))?;
-    if rows.is_empty() {
-        return Err(format!("results/{name}/{FILE_NAME} has no rows"));
-    }
-    Ok(Run { name, rows })
+    let run = LatencyRun::load(&path).map_err(|e| e.to_string())?;
+    let recorded = match &run.machine {
+        None => UNRECORDED.to_string(),
+        Some(m) => format!(
+            "{}, {}, median of {} repeats",
+            m.cpu_model,
+            m.provenance_line(),
+            run.repeats
+        ),
+    };
+    Ok(Run {
+        name,
+        rows: run.summary_rows(),
+        recorded,
+    })
 }
 
 impl Run {
@@ -257,7 +268,7 @@ fn value(run: &Run, block: &Block) -> Result<String, BlockError> {
     let text = if lo == hi { lo } else { format!("{lo}-{hi}") };
     Ok(qualified(
         text,
-        &[Some(UNRECORDED), unpinned.then_some("pin did not hold")],
+        &[Some(&run.recorded), unpinned.then_some("pin did not hold")],
     ))
 }
 
@@ -278,12 +289,13 @@ fn table(run: &Run, link: &str) -> String {
     }
     let most = run.rows.iter().map(|r| r.samples).max().unwrap_or(0);
     let mut out = format!(
-        "Latency run [`{}`]({link}) (`oceanbench latency`): {UNRECORDED} (the folder's README.md \
+        "Latency run [`{}`]({link}) (`oceanbench latency`): {} (the folder's README.md \
          says how it was made); {}; up to {} round trips timed per row. Batched: the median of \
          batches of round trips timed with one clock read each; p99: over trips timed one by one \
          (clock reads included); CPU: both threads' CPU time per round trip; × floor: batched ÷ \
          the {FLOOR}'s batched on the same cores.\n\n",
         run.name,
+        run.recorded,
         placed.join("; "),
         grouped(most as f64, 0)
     );

@@ -65,6 +65,67 @@ impl Table {
     }
 }
 
+/// A cell's marks: [`NOISY`] when it kept noisy trials, [`UNEXPLAINED`] when a slow trial has
+/// no recorded cause, [`MIXED`] when its trials mixed placements; empty for a clean cell.
+pub fn marks(c: &Cell) -> String {
+    let mut out = String::new();
+    if c.noisy() {
+        out.push_str(NOISY);
+    }
+    if c.unexplained_slow_trials() > 0 {
+        out.push_str(UNEXPLAINED);
+    }
+    if c.mixed_placements() {
+        out.push_str(MIXED);
+    }
+    out
+}
+
+/// The run's cells in reading order: by size, then workload, then mode (serial, UP, DP); cells
+/// equal in those keep the order they ran in.
+pub fn reading_order(results: &Results) -> Vec<&Cell> {
+    let mut cells: Vec<&Cell> = results.cells.iter().collect();
+    cells.sort_by_key(|c| (c.key.size, c.key.workload, c.key.mode));
+    cells
+}
+
+/// What each part of the run's cell labels means, from the values its cells carry (`w2`:
+/// workload 2, ...), and which settings labels leave out; `None` for a run with no cells.
+pub fn label_legend(results: &Results) -> Option<String> {
+    let mut parts = Vec::new();
+    let mut quiet = Vec::new();
+    for &d in Dim::ALL {
+        let mut seen = Vec::new();
+        for v in results.cells.iter().filter_map(|c| c.key.get(d)) {
+            if !seen.contains(&v) {
+                seen.push(v);
+            }
+        }
+        for v in seen {
+            if Some(v) == d.quiet() {
+                quiet.push(d.title(v));
+            } else {
+                parts.push(format!("{} = {}", d.label(v), d.title(v)));
+            }
+        }
+    }
+    if parts.is_empty() {
+        return None;
+    }
+    let left_out = if quiet.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; a label leaves out the paper's settings: {}",
+            quiet.join(", ")
+        )
+    };
+    Some(format!(
+        "Cell labels list the cell's values in this order: {}{left_out}.",
+        parts.join(", ")
+    ))
+}
+
 /// A cell's FPS with its spread over trials, marked [`NOISY`] when it kept noisy trials,
 /// [`UNEXPLAINED`] when a slow trial has no recorded cause and [`MIXED`] when its trials mixed
 /// placements; `failed` or `–` when there is none.
@@ -75,17 +136,7 @@ pub fn fps(cell: Option<&Cell>) -> String {
                 summary: Some(s), ..
             },
         ) => {
-            let noisy = if c.noisy() { NOISY } else { "" };
-            let unexplained = if c.unexplained_slow_trials() > 0 {
-                UNEXPLAINED
-            } else {
-                ""
-            };
-            let mixed = if c.mixed_placements() { MIXED } else { "" };
-            format!(
-                "{:.0} ±{:.1}%{noisy}{unexplained}{mixed}",
-                s.fps, s.fps_spread.cv_percent
-            )
+            format!("{:.0} ±{:.1}%{}", s.fps, s.fps_spread.cv_percent, marks(c))
         }
         Some(Cell { error: Some(_), .. }) => "failed".into(),
         _ => "–".into(),

@@ -289,5 +289,6 @@ fn value(metric: Metric, v: f64) -> String {
     match metric {
         Metric::Fps => format!("{v:.1}"),
         Metric::WaitCpu => format!("{v:.4}"),
+        Metric::RoundTrip => format!("{v:.0}"),
     }
 }

@@ -2,6 +2,7 @@
 //! comparisons are drawn from it alone.
 
 pub mod balance;
+pub mod latency;
 
 use crate::calibrate::{RowCalibration, Yardstick};
 pub use crate::cell::CellKey;

@@ -10,7 +10,9 @@
 //! verdict at all, since a bootstrap of three values says little about the interval.
 
 use crate::cell::{Dim, Value};
+use crate::machine::Machine;
 use crate::report::shift::{self, BalanceShift};
+use crate::results::latency::{LatencyRun, FLOOR};
 use crate::results::{Cell, CellKey, Results, PLACEMENT_CHANGE_RATIO};
 use crate::stats;
 use itertools::Itertools;
@@ -25,6 +27,8 @@ crate::named! {
         Fps,
         /// CPU time per frame every thread spent waiting, in ms; lower is better.
         WaitCpu,
+        /// A latency run's hand-off round trip, in ns, one value per repeat; lower is better.
+        RoundTrip,
     }
 }
 
@@ -42,6 +46,12 @@ impl Metric {
             Metric::Fps if s.fps_trials.is_empty() => (vec![s.fps], |f| f > 0.0),
             Metric::Fps => (s.fps_trials.clone(), |f| f > 0.0),
             Metric::WaitCpu => (s.wait_cpu_ms_trials.clone(), |c| c >= 0.0),
+            Metric::RoundTrip => {
+                return Err(format!(
+                    "{}: round trips are measured by `oceanbench latency`, not by a sweep's cells",
+                    cell.key.label()
+                ))
+            }
         };
         if !values.is_empty() && values.iter().all(|&v| v.is_finite() && ok(v)) {
             Ok(values)
@@ -59,6 +69,7 @@ impl Metric {
         match self {
             Metric::Fps => "FPS",
             Metric::WaitCpu => "waiting CPU ms",
+            Metric::RoundTrip => "round trip ns",
         }
     }
 }
@@ -210,6 +221,53 @@ pub enum CompareError {
     },
 }
 
+/// Compares two latency runs method by method on the same cores, over their repeats (a lower
+/// round trip is better); a run from before repeats were kept gets "too few trials".
+pub fn latency_between(base: &LatencyRun, new: &LatencyRun, threshold_pct: f64) -> Comparison {
+    let metric = Metric::RoundTrip;
+    let mut out = Comparison::empty(threshold_pct, metric, None, None);
+    for b in &base.rows {
+        let Some(n) = new.rows.iter().find(|n| n.label() == b.label()) else {
+            out.only_in_base.push(b.label());
+            continue;
+        };
+        let label = b.label();
+        let seed = stats::seed_from(&label);
+        let unpinned = b.repeats.iter().chain(&n.repeats).any(|r| !r.pinned);
+        out.changes.push(Change {
+            noisy: unpinned,
+            ..change(
+                label,
+                None,
+                &b.round_trips(),
+                &n.round_trips(),
+                threshold_pct.abs(),
+                seed,
+                metric,
+            )
+        });
+    }
+    for n in &new.rows {
+        if !base.rows.iter().any(|b| b.label() == n.label()) {
+            out.only_in_new.push(n.label());
+        }
+    }
+    out.sort_changes();
+    out.warnings = machine_mismatch(base.machine.as_ref(), new.machine.as_ref());
+    let floor = |run: &LatencyRun| {
+        let trips: Vec<f64> = run
+            .rows
+            .iter()
+            .filter(|r| r.method == FLOOR)
+            .flat_map(|r| r.round_trips())
+            .collect();
+        (!trips.is_empty()).then(|| stats::median(&trips))
+    };
+    out.warnings
+        .extend(placement_mismatch(floor(base), floor(new)));
+    out
+}
+
 /// Compares every cell of `new` with the cell of `base` that has the same key.
 pub fn between(base: &Results, new: &Results, threshold_pct: f64, metric: Metric) -> Comparison {
     let new_by_key = first_by_key(&new.cells);
@@ -243,31 +301,12 @@ pub fn between(base: &Results, new: &Results, threshold_pct: f64, metric: Metric
 /// [`PLACEMENT_CHANGE_RATIO`] of each other (the two cores sit in the same placement); and each
 /// workload level both runs have must come to microseconds within [`LEVEL_MISMATCH`].
 pub fn mismatches(base: &Results, new: &Results) -> Vec<String> {
-    let mut out = Vec::new();
-    let (a, b) = (&base.machine, &new.machine);
-    if a.cpu_model != b.cpu_model {
-        out.push(format!(
-            "different CPUs: `{}` against `{}`",
-            a.cpu_model, b.cpu_model
-        ));
-    }
-    if a.logical_cores != b.logical_cores {
-        out.push(format!(
-            "different core counts: {} against {}",
-            a.logical_cores, b.logical_cores
-        ));
-    }
+    let mut out = machine_mismatch(Some(&base.machine), Some(&new.machine));
     let median_trip = |r: &Results| {
         let v: Vec<f64> = r.round_trip.all().map(|t| t.median_ns).collect();
         (!v.is_empty()).then(|| stats::median(&v))
     };
-    if let (Some(x), Some(y)) = (median_trip(base), median_trip(new)) {
-        if x.max(y) > x.min(y) * PLACEMENT_CHANGE_RATIO {
-            out.push(format!(
-                "different core placement: cross-core round trip {x:.0} ns against {y:.0} ns (over {PLACEMENT_CHANGE_RATIO}x apart)"
-            ));
-        }
-    }
+    out.extend(placement_mismatch(median_trip(base), median_trip(new)));
     for l in &base.calibration.levels {
         let Some(m) = new
             .calibration
@@ -287,6 +326,39 @@ pub fn mismatches(base: &Results, new: &Results) -> Vec<String> {
         }
     }
     out
+}
+
+/// Why two runs' machines are not like for like: another CPU or core count, or a run that
+/// recorded no machine.
+fn machine_mismatch(a: Option<&Machine>, b: Option<&Machine>) -> Vec<String> {
+    let (Some(a), Some(b)) = (a, b) else {
+        return vec!["a run records no machine: it may have run on another one".into()];
+    };
+    let mut out = Vec::new();
+    if a.cpu_model != b.cpu_model {
+        out.push(format!(
+            "different CPUs: `{}` against `{}`",
+            a.cpu_model, b.cpu_model
+        ));
+    }
+    if a.logical_cores != b.logical_cores {
+        out.push(format!(
+            "different core counts: {} against {}",
+            a.logical_cores, b.logical_cores
+        ));
+    }
+    out
+}
+
+/// Why two runs' cores sat in different places: their cross-core round trips (ns) over
+/// [`PLACEMENT_CHANGE_RATIO`] apart.
+fn placement_mismatch(x: Option<f64>, y: Option<f64>) -> Option<String> {
+    let (x, y) = (x?, y?);
+    (x.max(y) > x.min(y) * PLACEMENT_CHANGE_RATIO).then(|| {
+        format!(
+            "different core placement: cross-core round trip {x:.0} ns against {y:.0} ns (over {PLACEMENT_CHANGE_RATIO}x apart)"
+        )
+    })
 }
 
 /// Ranks every other value of `by` against `baseline`, cell group by cell group, in one run.
@@ -453,7 +525,12 @@ impl Comparison {
                 ..change(p.label, p.versus, &b, &n, threshold, seed, self.metric)
             });
         }
-        // Stable sort: within-noise rows keep the run's order, so groups stay together.
+        self.sort_changes();
+    }
+
+    /// Regressions first (worst first), then improvements, then the rest. Stable: within-noise
+    /// rows keep the run's order, so groups stay together.
+    fn sort_changes(&mut self) {
         self.changes.sort_by(|a, b| {
             let rank = |c: &Change| match c.verdict {
                 Verdict::Regressed => (0, c.change_pct),

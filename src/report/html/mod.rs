@@ -10,9 +10,12 @@ use super::chart::{self, ChartError, ChartOptions, NothingToDraw};
 use super::compare::{Comparison, Verdict};
 use super::markdown::{self, Table, MIXED, NOISY, UNEXPLAINED};
 use crate::cell::{Dim, Value};
-use crate::machine::Tree;
+use crate::machine::{Machine, Tree};
 use crate::results::{Cell, Results};
 use maud::{html, Markup, PreEscaped, DOCTYPE};
+
+mod latency;
+pub use latency::latency_page;
 
 const STYLE: &str = include_str!("report.css");
 
@@ -152,10 +155,15 @@ fn sections(balance: bool, baseline: bool) -> Vec<(&'static str, &'static str)> 
 /// What the run shows, first: with a baseline, how many cells improved or regressed against
 /// it; then the run's findings, each one sentence with its numbers and conditions.
 fn verdict(results: &Results, baseline: Option<&Baseline>) -> Markup {
-    let findings = crate::findings::of(results).findings;
+    let findings = crate::findings::of(results);
+    let machine = &results.machine;
     html! {
         section id="verdict" {
             h2 { "Verdict" }
+            p id="verdict-machine" {
+                (machine.cpu_model) ", " (machine.logical_cores) " logical cores; "
+                (or_missing(markdown::placement_line(results))) "; " (machine.provenance_line()) "."
+            }
             @if let Some(b) = baseline {
                 p id="verdict-baseline" {
                     (b.comparison.summary_line()) " "
@@ -169,10 +177,15 @@ fn verdict(results: &Results, baseline: Option<&Baseline>) -> Markup {
                     a href="#noise-warnings" { "read them" } " before trusting its numbers."
                 }
             }
-            @if findings.is_empty() {
+            @if findings.findings.is_empty() {
                 p.note { "No finding: the run holds no cell a finding compares." }
             } @else {
-                ul id="findings" { @for f in &findings { li { (f.sentence) } } }
+                div id="findings" {
+                    @for (heading, group) in findings.grouped() {
+                        @if let Some(h) = heading { h3.slice { (h) } }
+                        ul { @for f in group { li { (f.sentence) } } }
+                    }
+                }
             }
         }
     }
@@ -220,23 +233,10 @@ fn what_was_run(results: &Results) -> Markup {
         }
         h3 { "Machine" }
         dl.facts {
-            dt { "CPU" } dd { (machine.cpu_model) }
-            dt { "cores" } dd {
-                (machine.logical_cores) " logical, allowed "
-                (crate::affinity::list(&machine.allowed_cores))
-            }
-            dt { "OS, kernel" } dd { (machine.os) ", kernel " (machine.kernel) }
+            (machine_facts(machine))
             dt { "governor" } dd { (or_missing((!governor.is_empty()).then(|| governor.join("; ")))) }
             dt { "cross-core round trip" } dd { (or_missing(markdown::round_trip(results))) }
             dt { "placement" } dd { (or_missing(markdown::placement_line(results))) }
-            dt { "build" } dd {
-                "oceanbench " (machine.oceanbench_version) ", " (machine.build_profile) ", "
-                (machine.rustc)
-            }
-            dt { "source" } dd {
-                @if let Tree::Dirty { .. } = machine.tree() { strong { (machine.provenance_line()) } }
-                @else { (machine.provenance_line()) }
-            }
         }
         h3 id="noise-warnings" { "Noise warnings" }
         @let warnings = warnings(results);
@@ -246,6 +246,26 @@ fn what_was_run(results: &Results) -> Markup {
                 @else { "doctor's checks were " span.missing { (NOT_RECORDED) } "." } }
         } @else {
             ul.warnings { @for w in &warnings { li { (w) } } }
+        }
+    }
+}
+
+/// What every run records of its machine: CPU, cores, OS, build and source, as `dt`/`dd` pairs.
+fn machine_facts(machine: &Machine) -> Markup {
+    html! {
+        dt { "CPU" } dd { (machine.cpu_model) }
+        dt { "cores" } dd {
+            (machine.logical_cores) " logical, allowed "
+            (crate::affinity::list(&machine.allowed_cores))
+        }
+        dt { "OS, kernel" } dd { (machine.os) ", kernel " (machine.kernel) }
+        dt { "build" } dd {
+            "oceanbench " (machine.oceanbench_version) ", " (machine.build_profile) ", "
+            (machine.rustc)
+        }
+        dt { "source" } dd {
+            @if let Tree::Dirty { .. } = machine.tree() { strong { (machine.provenance_line()) } }
+            @else { (machine.provenance_line()) }
         }
     }
 }
@@ -325,7 +345,11 @@ fn frame_metrics(results: &Results) -> Table {
         "1 % low integral (FPS)",
     ];
     let row = |c: &Cell| -> Vec<String> {
-        let mut row = vec![c.key.label_without(&skip)];
+        let mut row = vec![format!(
+            "{}{}",
+            c.key.label_without(&skip),
+            markdown::marks(c)
+        )];
         let Some(s) = &c.summary else {
             row.push(format!(
                 "failed: {}",
@@ -357,15 +381,40 @@ fn frame_metrics(results: &Results) -> Table {
         },
         header: header.map(String::from).to_vec(),
         numeric: header.map(|h| h != "cell").to_vec(),
-        rows: results.cells.iter().map(row).collect(),
-        notes: vec![
-            "P1: 1000 ÷ the 99th percentile frame time; 1 % low average: 1000 ÷ the mean of the frames at or above it; 1 % low integral: the frame time at which the slowest frames reach 1 % of the total time (docs/methodology.md).".into(),
-        ],
+        rows: markdown::reading_order(results).into_iter().map(row).collect(),
+        notes: [
+            "Rows by size, workload, then mode; a cell's marks as in the FPS tables.".to_string(),
+        ]
+        .into_iter()
+        .chain(markdown::label_legend(results))
+        .chain(["P1: 1000 ÷ the 99th percentile frame time; 1 % low average: 1000 ÷ the mean of the frames at or above it; 1 % low integral: the frame time at which the slowest frames reach 1 % of the total time (docs/methodology.md).".to_string()])
+        .collect(),
     }
 }
 
-/// A table with its heading as caption, numbers right-aligned, notes under it.
+/// Rows above which a table starts collapsed: a reader opens it, rather than scrolling past it
+/// to the sections after it.
+const COLLAPSED_ROWS: usize = 40;
+
+/// A table with its heading as caption, numbers right-aligned, notes under it; one of more than
+/// [`COLLAPSED_ROWS`] rows is collapsed under its title.
 fn table(t: &Table) -> Markup {
+    let grid = table_grid(t);
+    html! {
+        @if t.rows.len() > COLLAPSED_ROWS {
+            details.long-table {
+                summary { (t.title) " (" (t.rows.len()) " rows)" }
+                (grid)
+            }
+        } @else {
+            (grid)
+        }
+        @for n in &t.notes { p.note { (n) } }
+    }
+}
+
+/// The table itself, in a box that scrolls sideways on a narrow screen.
+fn table_grid(t: &Table) -> Markup {
     let class = |i: usize| t.numeric.get(i).copied().unwrap_or(false);
     html! {
         div.scroll {
@@ -379,7 +428,6 @@ fn table(t: &Table) -> Markup {
                 }
             }
         }
-        @for n in &t.notes { p.note { (n) } }
     }
 }
 
@@ -393,7 +441,7 @@ fn comparison(b: &Baseline) -> Markup {
         h2 id="comparison" { "Against the baseline" }
         p { "This run against " code { (b.name) } ", cell by cell: " (c.summary_line()) "." }
         p.note {
-            "Each change is the change of the mean trial FPS with its 95 % interval (bootstrap); "
+            "Each change is the change of the mean " (c.metric.unit()) " over trials (or repeats) with its 95 % interval (bootstrap); "
             "a change counts only when its whole interval clears the threshold."
         }
         @if !c.warnings.is_empty() {
