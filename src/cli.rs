@@ -69,6 +69,12 @@ pub enum Command {
     Completions(CompletionsArgs),
     /// Print the man page (roff), or write one page per command into a folder.
     Man(ManArgs),
+    /// Write a run's FPS per cell for a CI benchmark tracker: Bencher (bmf) or
+    /// github-action-benchmark.
+    Export(ExportArgs),
+    /// Chart a metric across runs in the order they were made, one line per cell, with runs
+    /// on another machine marked, and find where each cell changed.
+    History(HistoryArgs),
 }
 
 /// One flag per dimension of a cell (`--size`, `--mode`, `--sync`, ...), each taking a value or
@@ -231,6 +237,9 @@ pub struct RunArgs {
     /// Also write results files into this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Write each cell's last trial as a MangoHud frame-time log (CSV) into this folder.
+    #[arg(long, value_name = "DIR")]
+    pub frame_log: Option<PathBuf>,
     /// Calibration and noise handling.
     #[command(flatten)]
     pub noise: NoiseArgs,
@@ -344,6 +353,9 @@ pub struct SweepArgs {
     /// first two allowed).
     #[arg(long, value_delimiter = ',', conflicts_with = "resume")]
     pub cores: Option<Vec<usize>>,
+    /// Write each cell's last trial as a MangoHud frame-time log (CSV) into this folder.
+    #[arg(long, value_name = "DIR")]
+    pub frame_log: Option<PathBuf>,
     /// Calibration and noise handling (not with --resume, which keeps the recorded config).
     #[command(flatten)]
     pub noise: NoiseArgs,
@@ -622,6 +634,49 @@ pub struct BenchRecordArgs {
     /// How the run was made, recorded in bench.json (default: this command line).
     #[arg(last = true, value_name = "COMMAND")]
     pub command: Vec<String>,
+}
+
+/// Flags of `oceanbench export`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Each cell is one benchmark, named by every dimension's value and its workload level as the config gives it; FPS with the slowest and fastest trial as its bounds (docs/ci.md).\n\nExamples:\n  oceanbench export results/figure-5-1-20261125T064618Z --format bmf --out bmf.json\n  oceanbench export results/quick/results.json --format github-action-benchmark"
+)]
+pub struct ExportArgs {
+    /// The run: a results directory or its results.json.
+    pub run: PathBuf,
+    /// The tracker's format.
+    #[arg(long, value_enum)]
+    pub format: crate::report::ci::CiFormat,
+    /// The file to write (default: standard output).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// Flags of `oceanbench history`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Runs are ordered by the time they started, then by commit, whatever order they are given in. Each cell's change points are printed (docs/ci.md).\n\nExit status: 0, or 1 when a cell's newest run lies in a segment that began with a regression; 2 on bad input.\n\nExamples:\n  oceanbench history results/ci-*/ --out history\n  oceanbench history a/results.json b/results.json --metric fps,wait-cpu --size 128 --mode dp"
+)]
+pub struct HistoryArgs {
+    /// Two or more runs: results folders or results.json files.
+    #[arg(required = true, value_name = "RUN")]
+    pub runs: Vec<PathBuf>,
+    /// The metrics to chart, one chart each.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "fps")]
+    pub metric: Vec<compare::Metric>,
+    /// Folder for the charts (history-<metric>.<format>).
+    #[arg(long, default_value = ".")]
+    pub out: PathBuf,
+    /// Image formats.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "png,svg")]
+    pub format: Vec<ChartFormat>,
+    /// Chart runs whose configs differ (by default refused: their cells are other work).
+    #[arg(long)]
+    pub force: bool,
+    /// Which cells to draw: a dimension given keeps the cells with one of its values (default:
+    /// every cell of the newest run).
+    #[command(flatten)]
+    pub select: DimArgs,
 }
 
 /// Flags of `oceanbench mesh`.

@@ -141,8 +141,17 @@ impl Machine {
 
 /// MemAvailable from /proc/meminfo, in bytes (None where it cannot be read).
 pub fn available_memory() -> Option<u64> {
+    meminfo_kib("MemAvailable:").map(|kib| kib * 1024)
+}
+
+/// MemTotal from /proc/meminfo, in kB as the file gives it (None where it cannot be read).
+pub fn total_memory_kib() -> Option<u64> {
+    meminfo_kib("MemTotal:")
+}
+
+/// The kB figure of the /proc/meminfo line starting with `key`.
+fn meminfo_kib(key: &str) -> Option<u64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
+    let line = text.lines().find(|l| l.starts_with(key))?;
+    line.split_whitespace().nth(1)?.parse().ok()
 }

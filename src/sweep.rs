@@ -163,6 +163,11 @@ pub trait Observer {
     /// A trial is about to start.
     fn trial_starting(&mut self, _progress: Progress<'_>) {}
 
+    /// A cell's trials are over: the cell as results keep it, and its last kept trial's frames
+    /// (told for measured cells only, once the row's trials are all done, so nothing it does
+    /// runs inside a timed loop).
+    fn cell_finished(&mut self, _cell: &Cell, _last_trial: &Trial) {}
+
     /// A row of cells finished, or the whole sweep (then `results.finished` is set): the
     /// results so far, ready to be written.
     fn row_finished(&mut self, _results: &Results) {}
@@ -371,10 +376,13 @@ impl Sweep {
             let split = self.split_with(&runs);
             let config = &self.results.config;
             let (noise, slow) = (config.noise_threshold_percent, config.slow_trial_percent);
-            self.results.cells.extend(
-                runs.into_iter()
-                    .map(|r| r.finish(noise, slow, split.as_ref(), trials)),
-            );
+            for run in runs {
+                let (cell, last_trial) = run.finish(noise, slow, split.as_ref(), trials);
+                if let Some(trial) = &last_trial {
+                    observer.cell_finished(&cell, trial);
+                }
+                self.results.cells.push(cell);
+            }
             if self.cores[0] != self.cores[1] {
                 let rt = crosscore::round_trip(self.cores[0], self.cores[1], ROUND_TRIP_BATCHES);
                 self.results.round_trip.during.push(rt);
@@ -674,20 +682,21 @@ impl CellRun {
     }
 
     /// The cell: when its trials mixed placements and one placement holds `trials` of them,
-    /// those alone, the others set aside.
+    /// those alone, the others set aside. With it, the last kept trial of a cell that did not
+    /// fail.
     fn finish(
         self,
         threshold_percent: f64,
         slow_percent: f64,
         split: Option<&Split>,
         trials: usize,
-    ) -> Cell {
+    ) -> (Cell, Option<Trial>) {
         let failed = self.error.is_some();
         let keep = placement::kept(&self.classes(split), trials);
-        let (trials_kept, _) = partition(self.trials, &keep);
+        let (mut trials_kept, _) = partition(self.trials, &keep);
         let (facts, set_aside) = partition(self.facts, &keep);
         let (noise, _) = partition(self.noise, &keep);
-        Cell {
+        let cell = Cell {
             trials: if failed {
                 Vec::new()
             } else {
@@ -721,7 +730,11 @@ impl CellRun {
                 threshold_percent,
                 retries: self.retries,
             }),
-        }
+        };
+        let last = trials_kept
+            .pop()
+            .filter(|t| !failed && !t.frames.is_empty());
+        (cell, last)
     }
 }
 

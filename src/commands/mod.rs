@@ -6,7 +6,9 @@ mod chart;
 mod compare;
 mod docs;
 mod doctor;
+mod export;
 mod findings;
+mod history;
 mod interrupt;
 mod latency;
 mod mesh;
@@ -73,6 +75,8 @@ pub fn execute(cli: Cli) -> Result<(), CliError> {
         Command::BenchRecord(args) => bench_record::bench_record(args),
         Command::Completions(args) => shell::completions(args),
         Command::Man(args) => shell::man(args),
+        Command::Export(args) => export::export(args),
+        Command::History(args) => history::history(args),
     }
 }
 

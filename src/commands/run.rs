@@ -4,7 +4,9 @@ use super::{command_line, fail_on_errors, interrupt, lock_cores, prepare_out_dir
 use crate::cell::{Axes, Dim};
 use crate::cli::{DimArgs, RunArgs};
 use crate::config::{InputError, Level, SweepConfig};
+use crate::frame_log::FrameLogger;
 use crate::frame_loop::Mode;
+use crate::machine::Machine;
 use crate::report;
 use crate::results::Results;
 use crate::sweep::Sweep;
@@ -88,15 +90,34 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
     if let Some(note) = crate::sweep::kind_skips(&config) {
         eprintln!("oceanbench: {note}");
     }
+    let mut frame_log = args
+        .frame_log
+        .as_deref()
+        .map(|dir| {
+            let keys = crate::sweep::cells(&config);
+            FrameLogger::prepare("--frame-log", dir, &keys, &Machine::current())
+        })
+        .transpose()?;
     let _core_locks = lock_cores(&config.placement()?, &args.wait)?;
     let stop = interrupt::flag();
     let sweep = Sweep::prepare(config)?.stopping_on(stop);
-    let mut results = sweep.run(&mut ());
+    let mut results = match &mut frame_log {
+        Some(logger) => sweep.run(logger),
+        None => sweep.run(&mut ()),
+    };
     results.command = Some(command_line());
     if let Some(dir) = &args.out {
         report::write_all(dir, &results).map_err(anyhow::Error::from)?;
     }
     print_cells(&results);
+    if let Some(logger) = frame_log {
+        for path in logger
+            .finish()
+            .map_err(|e| anyhow::anyhow!("frame log {e}"))?
+        {
+            println!("frame log: {}", path.display());
+        }
+    }
     // The time cap ends a slow trial before --frames; the numbers stand, but say so.
     for cell in &results.cells {
         let Some(s) = &cell.summary else { continue };

@@ -8,15 +8,18 @@ use super::{
 use crate::cli::{NoiseArgs, SweepArgs};
 use crate::config::{InputError, SweepConfig};
 use crate::doctor;
+use crate::frame_log::FrameLogger;
 use crate::lock::Lock;
+use crate::machine::Machine;
+use crate::measure::Trial;
 use crate::report::{self, chart::ChartOptions};
-use crate::results::Results;
+use crate::results::{Cell, CellKey, Results};
 use crate::sweep::{Observer, Progress, Sweep};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 /// Names the top-level keys where two configs differ.
-fn config_differences(a: &SweepConfig, b: &SweepConfig) -> Vec<String> {
+pub(super) fn config_differences(a: &SweepConfig, b: &SweepConfig) -> Vec<String> {
     let (Ok(serde_json::Value::Object(a)), Ok(serde_json::Value::Object(b))) =
         (serde_json::to_value(a), serde_json::to_value(b))
     else {
@@ -30,11 +33,13 @@ fn config_differences(a: &SweepConfig, b: &SweepConfig) -> Vec<String> {
     keys.into_iter().cloned().collect()
 }
 
-/// The progress bar, and the results files rewritten after every row.
+/// The progress bar, the results files rewritten after every row and, when asked for, each
+/// cell's frame log.
 struct Writer<'a> {
     dir: &'a Path,
     bar: indicatif::ProgressBar,
     error: Option<report::WriteError>,
+    frame_log: Option<FrameLogger>,
 }
 
 impl Observer for Writer<'_> {
@@ -44,6 +49,12 @@ impl Observer for Writer<'_> {
         self.bar.set_message(p.cell.label());
     }
 
+    fn cell_finished(&mut self, cell: &Cell, last_trial: &Trial) {
+        if let Some(logger) = &mut self.frame_log {
+            logger.cell_finished(cell, last_trial);
+        }
+    }
+
     fn row_finished(&mut self, results: &Results) {
         if let Err(e) = report::write_all(self.dir, results) {
             self.error.get_or_insert(e);
@@ -51,9 +62,30 @@ impl Observer for Writer<'_> {
     }
 }
 
-/// The sweep to run and where its results go: a new one, or the rest of an interrupted one,
-/// with the locks of its results folder and cores, held until it ends.
-fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf, Vec<Lock>)>, CliError> {
+/// The sweep to run, where its results go, the locks of its results folder and cores (held until
+/// it ends) and the frame logger `--frame-log` asks for.
+struct Start {
+    sweep: Sweep,
+    dir: PathBuf,
+    _locks: Vec<Lock>,
+    frame_log: Option<FrameLogger>,
+}
+
+/// The `--frame-log` logger for the cells `keys`, refused before anything is measured.
+fn frame_logger(args: &SweepArgs, keys: &[CellKey]) -> Result<Option<FrameLogger>, CliError> {
+    let Some(dir) = &args.frame_log else {
+        return Ok(None);
+    };
+    Ok(Some(FrameLogger::prepare(
+        "--frame-log",
+        dir,
+        keys,
+        &Machine::current(),
+    )?))
+}
+
+/// A new sweep, or the rest of an interrupted one.
+fn start(args: &SweepArgs) -> Result<Option<Start>, CliError> {
     let config = match &args.config {
         Some(path) => Some(SweepConfig::load(path)?),
         None => None,
@@ -65,6 +97,7 @@ fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf, Vec<Lock>)>, CliErr
             config.cores = Some(cores.clone());
         }
         config.validate()?;
+        let frame_log = frame_logger(args, &crate::sweep::cells(&config))?;
         for note in config
             .notes
             .iter()
@@ -94,7 +127,12 @@ fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf, Vec<Lock>)>, CliErr
         let mut sweep = Sweep::prepare(config)?;
         sweep.results.doctor = doctor;
         sweep.results.command = Some(command_line());
-        return Ok(Some((sweep, dir, locks)));
+        return Ok(Some(Start {
+            sweep,
+            dir,
+            _locks: locks,
+            frame_log,
+        }));
     };
     if args.noise != NoiseArgs::default() {
         return Err(InputError(
@@ -134,12 +172,24 @@ fn start(args: &SweepArgs) -> Result<Option<(Sweep, PathBuf, Vec<Lock>)>, CliErr
         dir.display(),
         sweep.keys().len()
     );
-    Ok(Some((sweep, out, locks)))
+    let frame_log = frame_logger(args, sweep.keys())?;
+    Ok(Some(Start {
+        sweep,
+        dir: out,
+        _locks: locks,
+        frame_log,
+    }))
 }
 
 pub(super) fn sweep(args: SweepArgs) -> Result<(), CliError> {
     let stop = interrupt::flag();
-    let Some((sweep, dir, _locks)) = start(&args)? else {
+    let Some(Start {
+        sweep,
+        dir,
+        _locks,
+        frame_log,
+    }) = start(&args)?
+    else {
         return Ok(());
     };
     let sweep = sweep.stopping_on(stop);
@@ -159,11 +209,25 @@ pub(super) fn sweep(args: SweepArgs) -> Result<(), CliError> {
         dir: &dir,
         bar,
         error: None,
+        frame_log,
     };
     let results = sweep.run(&mut writer);
     writer.bar.finish_and_clear();
     if let Some(e) = writer.error {
         return Err(anyhow::anyhow!("writing results: {e}").into());
+    }
+    if let Some(logger) = writer.frame_log {
+        let written = logger
+            .finish()
+            .map_err(|e| anyhow::anyhow!("frame log {e}"))?;
+        eprintln!(
+            "oceanbench: {} frame log(s) in {}",
+            written.len(),
+            args.frame_log
+                .as_deref()
+                .unwrap_or(Path::new("."))
+                .display()
+        );
     }
     if results.finished.is_none() {
         return Err(CliError::Interrupted(format!(

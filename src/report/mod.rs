@@ -4,6 +4,7 @@
 
 pub mod analysis;
 pub mod chart;
+pub mod ci;
 pub mod csv;
 pub mod export;
 pub mod html;

@@ -34,7 +34,7 @@ crate::named! {
 
 impl Metric {
     /// The metric's per-trial values of a cell, or why it has none.
-    fn trials(self, cell: &Cell) -> Result<Vec<f64>, String> {
+    pub(crate) fn trials(self, cell: &Cell) -> Result<Vec<f64>, String> {
         let Some(s) = &cell.summary else {
             return Err(match &cell.error {
                 Some(e) => format!("{}: {e}", cell.key.label()),
@@ -60,7 +60,7 @@ impl Metric {
         }
     }
 
-    fn higher_is_better(self) -> bool {
+    pub(crate) fn higher_is_better(self) -> bool {
         self == Metric::Fps
     }
 

@@ -8,6 +8,7 @@ mod balance;
 mod bars;
 mod frames;
 mod glyphs;
+pub mod history;
 mod latency;
 mod render;
 
