@@ -299,9 +299,13 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
     let mut started = t2;
     let mut published = None;
     let mut wrong = None;
-    for part in &shared.parts {
+    let mut marks = frames.marks();
+    for (h, part) in shared.parts.iter().enumerate() {
         // SAFETY: as above, the stamp is published and not yet released.
         let stamp = unsafe { part.stamps[s].get() };
+        if let Some(marks) = &mut marks {
+            marks.helper(h, stamp.waited.ns, stamp.started, stamp.published);
+        }
         step_ns = step_ns.max(stamp.step_ns);
         helpers_waited.ns = helpers_waited.ns.max(stamp.waited.ns);
         helpers_waited.cpu_ns += stamp.waited.cpu_ns;
@@ -337,6 +341,9 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
         took
     };
     let t3 = Instant::now();
+    if let Some(mut marks) = frames.marks() {
+        marks.main([t1, t2, t3], on_mesh);
+    }
     if let Some(index) = wrong {
         return Err(LoopError::Helper(format!(
             "frame {k} expected, helper delivered frame {index}"
