@@ -342,6 +342,16 @@ fn frame_events(
             band.publish_ns,
             mesh.clone(),
         ));
+        for (p, &[from, to]) in band.phases.iter().enumerate() {
+            events.push(slice(
+                &format!("phase {p}"),
+                "helper",
+                tid,
+                from,
+                to,
+                json!({}),
+            ));
+        }
     }
     // The mesh is published when its last band is.
     let Some((h, band)) = f

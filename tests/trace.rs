@@ -13,13 +13,12 @@ use std::path::Path;
 /// Slack for comparing times the file holds as µs with three decimals' worth of nanoseconds.
 const EPS_US: f64 = 1e-3;
 
-/// A tiny cell with `--trace FILE` and `extra` flags; the parsed file.
+/// A tiny cell (8² unless `extra` gives a size) with `--trace FILE` and `extra` flags; the
+/// parsed file.
 fn traced_run(dir: &Path, extra: &[&str]) -> Value {
     let file = dir.join("t.json");
     let mut args = vec![
         "run",
-        "--size",
-        "8",
         "--trials",
         "1",
         "--frames",
@@ -31,6 +30,9 @@ fn traced_run(dir: &Path, extra: &[&str]) -> Value {
         "--trace-frames",
         "20",
     ];
+    if !extra.contains(&"--size") {
+        args.extend(["--size", "8"]);
+    }
     args.extend(extra);
     let out = oceanbench_locked(dir, &args);
     assert_success(&out);
@@ -245,6 +247,39 @@ fn a_latest_trace_draws_each_mesh_once_and_two_helpers_each_their_band() {
             slices[&tid].iter().filter(|s| s["name"] == "step").count(),
             20
         );
+    }
+    assert_eq!(flows_bind(&trace, &slices, &[2, 3]), 20);
+}
+
+#[test]
+fn a_split_step_draws_its_phases_inside_each_helpers_step() {
+    let dir = tempfile::tempdir().unwrap();
+    let trace = traced_run(
+        dir.path(),
+        &[
+            "--mode",
+            "dp",
+            "--helpers",
+            "2",
+            "--ocean",
+            "fft",
+            "--size",
+            "16",
+        ],
+    );
+    let slices = slices_nest(&trace);
+    for tid in [2, 3] {
+        let on = &slices[&tid];
+        for step in on.iter().filter(|s| s["name"] == "step") {
+            let (from, to) = (f(step, "ts"), f(step, "ts") + f(step, "dur"));
+            let phases: Vec<&str> = on
+                .iter()
+                .filter(|s| s["name"].as_str().unwrap().starts_with("phase "))
+                .filter(|s| f(s, "ts") >= from - EPS_US && f(s, "ts") + f(s, "dur") <= to + EPS_US)
+                .map(|s| s["name"].as_str().unwrap())
+                .collect();
+            assert_eq!(phases, ["phase 0", "phase 1"], "{step}");
+        }
     }
     assert_eq!(flows_bind(&trace, &slices, &[2, 3]), 20);
 }

@@ -151,7 +151,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     // Each helper gets its own stepper (the fast kernel keeps per-band tables in it), split
     // from the cell's so that a model whose phases read each other's bands shares that state.
     let start = || {
-        let shared = Shared::new(spec);
+        let shared = Shared::new(spec, trace.is_some());
         let mut steppers = match shared.parts.len() {
             1 => vec![ocean],
             _ => ocean.split(&shared.bands()),

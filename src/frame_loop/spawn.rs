@@ -24,7 +24,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     let main_pin = affinity::pin_current(spec.main_core);
     let (cores, main) = (CoreWatch::start(spec), ThreadWatch::start(spec.main_core));
     let core = spec.helper_cores[0];
-    let shared = Arc::new(Shared::new(spec));
+    let shared = Arc::new(Shared::new(spec, trace.is_some()));
     let mut ocean = Some(ocean);
     let mut helpers = Pin { core, held: true };
     let mut suffered = ThreadNoise {

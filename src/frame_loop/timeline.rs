@@ -47,8 +47,14 @@ pub struct TracedFrame {
     pub helpers: Vec<HelperSpan>,
 }
 
+/// The most phases of a split step a trace draws apart.
+pub(super) const TRACED_PHASES: usize = 4;
+
+/// When each phase of a split step computed, after its barrier; `None` for phases not run.
+pub(super) type PhaseMarks = [Option<(Instant, Instant)>; TRACED_PHASES];
+
 /// One helper's side of a mesh: its wait for a free slot, then its step up to the publication.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct HelperSpan {
     /// The wait for a free slot started (equal to `step_ns` when it did not wait).
     pub wait_ns: u64,
@@ -56,6 +62,9 @@ pub struct HelperSpan {
     pub step_ns: u64,
     /// The band was published.
     pub publish_ns: u64,
+    /// With a split step (several helpers, a model of several phases), each phase's start and
+    /// end after its barrier, within the step.
+    pub phases: Vec<[u64; 2]>,
 }
 
 /// A helper's instants as its stamp holds them.
@@ -64,6 +73,7 @@ struct HelperMarks {
     waited: Duration,
     started: Instant,
     published: Instant,
+    phases: PhaseMarks,
 }
 
 /// The main thread's instants of a frame, before it ends.
@@ -105,7 +115,13 @@ impl FrameMarks<'_> {
             waited: Duration::from_nanos(waited_ns),
             started,
             published,
+            phases: [None; TRACED_PHASES],
         };
+    }
+
+    /// Helper `h`'s phases of the consumed mesh, after [`FrameMarks::helper`].
+    pub fn phases(&mut self, h: usize, phases: PhaseMarks) {
+        self.bands[h].phases = phases;
     }
 
     /// The main thread's instants after the frame's start: the wait's start, the mesh in hand,
@@ -125,6 +141,7 @@ impl Capture {
             waited: Duration::ZERO,
             started: now,
             published: now,
+            phases: [None; TRACED_PHASES],
         };
         Capture {
             cap,
@@ -207,6 +224,12 @@ impl Capture {
                         wait_ns: at(wait_start(b)),
                         step_ns: at(b.started),
                         publish_ns: at(b.published),
+                        phases: b
+                            .phases
+                            .iter()
+                            .flatten()
+                            .map(|&(s, e)| [at(s), at(e)])
+                            .collect(),
                     })
                     .collect(),
             })
