@@ -226,9 +226,10 @@ fn band_tid(timeline: &Timeline, h: usize) -> u64 {
 /// The Chrome Trace Event JSON of a traced trial of cell `label`, consumed as `consume`.
 ///
 /// Main thread: a `frame N` slice holding `workload`, `wait` (in `serial`: `step`), the
-/// consume slice and `workload on mesh`. Each helper: `helper wait` and `step`. A flow from
-/// the last band's `step` to the `consume` slice links each mesh, once per mesh (under
-/// `latest` a mesh taken twice is drawn once); `mesh age` counts it in frames and ms.
+/// consume slice and `workload on mesh`. Each helper: `helper wait` and `step` (holding its
+/// `phase N` slices when split). A flow from the last band's `step` to the `consume` slice links
+/// each mesh, once per mesh (under `latest` a mesh taken twice is drawn once); `mesh age` gives
+/// each frame's consumed mesh's age in frames and ms.
 pub fn chrome_trace(label: &str, consume: Consume, timeline: &Timeline) -> Json {
     let mut events = vec![
         json!({"name": "process_name", "ph": "M", "pid": PID, "args": {"name": format!("oceanbench {label}")}}),
@@ -258,8 +259,8 @@ pub fn chrome_trace(label: &str, consume: Consume, timeline: &Timeline) -> Json 
     })
 }
 
-/// One frame's slices, and when it consumed a mesh not drawn before, that mesh's helper
-/// slices, flow and age.
+/// One frame's slices and mesh age, and when it consumed a mesh not drawn before, that mesh's
+/// helper slices and flow.
 fn frame_events(
     events: &mut Vec<Json>,
     timeline: &Timeline,
