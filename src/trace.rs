@@ -155,7 +155,12 @@ impl TracePlan {
         }
         let json = chrome_trace(&key.label(), consume, timeline);
         let bytes = serde_json::to_vec(&json).map_err(std::io::Error::other)?;
-        crate::report::json::write_atomic(&self.path_for(key), &bytes)
+        // Written beside and renamed, so an interrupted run leaves no half trace (report's
+        // write_atomic would lift this module, which the sweep imports, above the reports).
+        let path = self.path_for(key);
+        let tmp = path.with_extension("json.tmp");
+        std::fs::write(&tmp, bytes)?;
+        std::fs::rename(&tmp, path)
     }
 }
 
