@@ -249,6 +249,27 @@ pub struct RunArgs {
     /// Waiting for other runs on the same cores.
     #[command(flatten)]
     pub wait: WaitArgs,
+    /// Write the frame timeline of the cell's first trial to FILE, as Chrome Trace Event JSON
+    /// (Perfetto, chrome://tracing, speedscope, Tracy's import-chrome; docs/trace.md).
+    #[arg(long, value_name = "FILE")]
+    pub trace: Option<PathBuf>,
+    /// Frames the trace keeps.
+    #[command(flatten)]
+    pub trace_frames: TraceFramesArg,
+}
+
+/// How many frames a trace keeps.
+#[derive(Clone, Debug, Default, PartialEq, Args)]
+pub struct TraceFramesArg {
+    /// Measured frames a trace keeps, 1 to 100000 (default 1000); the file says how many of how
+    /// many it kept.
+    #[arg(
+        long,
+        value_name = "N",
+        requires = "trace",
+        allow_negative_numbers = true
+    )]
+    pub trace_frames: Option<i64>,
 }
 
 /// Flags that set the camera (config key `camera`), which the `render` workload looks through
@@ -362,6 +383,17 @@ pub struct SweepArgs {
     /// Waiting for other runs on the same cores.
     #[command(flatten)]
     pub wait: WaitArgs,
+    /// Write the frame timeline of the first trial of each cell --trace-cells chooses into DIR,
+    /// one Chrome Trace Event JSON file per cell (docs/trace.md).
+    #[arg(long, value_name = "DIR", conflicts_with = "resume")]
+    pub trace: Option<PathBuf>,
+    /// The cells traced, as DIM=VALUE items that must all hold (a dimension named twice takes
+    /// either value), e.g. `mode=dp,size=40` (default: every cell).
+    #[arg(long, value_name = "FILTER", value_delimiter = ',', requires = "trace")]
+    pub trace_cells: Vec<String>,
+    /// Frames each trace keeps.
+    #[command(flatten)]
+    pub trace_frames: TraceFramesArg,
 }
 
 /// Flags of `oceanbench chart`.

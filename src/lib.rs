@@ -39,4 +39,5 @@ pub mod suggest;
 pub mod summary;
 pub mod sweep;
 pub mod sync;
+pub mod trace;
 pub mod workload;

@@ -20,6 +20,7 @@ use crate::sched::TrialNoise;
 use crate::slow_trials::{self, TrialFacts};
 use crate::summary::{Breakdown, Mailbox, Summary};
 use crate::sync::{Policy, SyncMethod};
+use crate::trace::TracePlan;
 use crate::workload::{Calibration, KindParams, LevelAt, WorkRecord, WorkloadKind};
 use itertools::Itertools;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -196,6 +197,7 @@ pub struct Sweep {
     cores: [usize; 2],
     keys: Vec<CellKey>,
     stop: Arc<AtomicBool>,
+    trace: Option<TracePlan>,
 }
 
 impl Sweep {
@@ -249,6 +251,7 @@ impl Sweep {
             cores,
             keys,
             stop: Arc::new(AtomicBool::new(false)),
+            trace: None,
         })
     }
 
@@ -275,6 +278,7 @@ impl Sweep {
             cores,
             keys,
             stop: Arc::new(AtomicBool::new(false)),
+            trace: None,
         })
     }
 
@@ -331,6 +335,14 @@ impl Sweep {
     /// The same sweep, stopped by `stop` instead of its own flag (a process-wide interrupt).
     pub fn stopping_on(self, stop: Arc<AtomicBool>) -> Sweep {
         Sweep { stop, ..self }
+    }
+
+    /// The same sweep, writing the trace of the first trial of each cell `plan` chooses.
+    pub fn tracing(self, plan: TracePlan) -> Sweep {
+        Sweep {
+            trace: Some(plan),
+            ..self
+        }
     }
 
     /// Runs the cells group by group, telling `observer` before every trial and after every
@@ -437,10 +449,26 @@ impl Sweep {
     fn run_trial(&self, run: &mut CellRun) -> Result<(), LoopError> {
         let config = &self.results.config;
         let mut retries_left = config.retry_noisy;
+        // Only a cell's first attempt is traced: one file per cell.
+        let trace = self
+            .trace
+            .as_ref()
+            .filter(|p| run.trials.is_empty() && run.retries == 0 && p.chooses(&run.key));
         loop {
             let before = self.trial_round_trip();
-            let outcome = frame_loop::run(&run.spec, &budget(config), |_, _| {});
+            let cap = trace.filter(|_| run.retries == 0).map(|p| p.frames);
+            let outcome = frame_loop::run_traced(&run.spec, &budget(config), cap, |_, _| {});
             let around = before.zip(self.trial_round_trip());
+            if let (Some(plan), Ok(lr)) = (trace, &outcome) {
+                if let Some(timeline) = &lr.timeline {
+                    if let Err(e) = plan.write(&run.key, run.spec.consume, timeline) {
+                        eprintln!(
+                            "oceanbench: --trace: {}: {e}",
+                            plan.path_for(&run.key).display()
+                        );
+                    }
+                }
+            }
             match outcome {
                 Ok(lr) if retries_left > 0 && lr.noise.is_noisy(config.noise_threshold_percent) => {
                     retries_left -= 1;

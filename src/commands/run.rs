@@ -2,7 +2,7 @@
 
 use super::{command_line, fail_on_errors, interrupt, lock_cores, prepare_out_dir, CliError};
 use crate::cell::{Axes, Dim};
-use crate::cli::{DimArgs, RunArgs};
+use crate::cli::{DimArgs, RunArgs, TraceFramesArg};
 use crate::config::{InputError, Level, SweepConfig};
 use crate::frame_log::FrameLogger;
 use crate::frame_loop::Mode;
@@ -10,7 +10,9 @@ use crate::machine::Machine;
 use crate::report;
 use crate::results::Results;
 use crate::sweep::Sweep;
+use crate::trace::{CellFilter, Target, TracePlan, DEFAULT_FRAMES};
 use crate::workload::WorkloadKind;
+use std::path::PathBuf;
 
 /// The cell `run` measures when its flags are left out: a mid-size mesh in DP, where the
 /// hand-off matters, rather than the sweep's first values.
@@ -85,6 +87,10 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
         config.workload_levels = vec![level];
         config.axes.workloads = vec![0];
     }
+    let trace = args
+        .trace
+        .map(|file| trace_plan(file, &args.trace_frames, &config))
+        .transpose()?;
     let _out_lock = args.out.as_deref().map(prepare_out_dir).transpose()?;
     config.validate()?;
     if let Some(note) = crate::sweep::kind_skips(&config) {
@@ -100,7 +106,10 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
         .transpose()?;
     let _core_locks = lock_cores(&config.placement()?, &args.wait)?;
     let stop = interrupt::flag();
-    let sweep = Sweep::prepare(config)?.stopping_on(stop);
+    let mut sweep = Sweep::prepare(config)?.stopping_on(stop);
+    if let Some(plan) = trace {
+        sweep = sweep.tracing(plan);
+    }
     let mut results = match &mut frame_log {
         Some(logger) => sweep.run(logger),
         None => sweep.run(&mut ()),
@@ -140,6 +149,25 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
         )));
     }
     fail_on_errors(&results)
+}
+
+/// `--trace FILE`: one file holds one cell's trace, so the flags must list one cell.
+fn trace_plan(
+    file: PathBuf,
+    frames: &TraceFramesArg,
+    config: &SweepConfig,
+) -> Result<TracePlan, InputError> {
+    let cells = crate::sweep::cells(config).len();
+    if cells != 1 {
+        return Err(InputError(format!(
+            "--trace: FILE holds one cell's trace, and these flags list {cells} cells; give one value per flag, or use `sweep --trace DIR`"
+        )));
+    }
+    TracePlan::new(
+        Target::File(file),
+        CellFilter::default(),
+        frames.trace_frames.unwrap_or(DEFAULT_FRAMES as i64),
+    )
 }
 
 fn print_cells(results: &Results) {

@@ -15,6 +15,7 @@ use crate::measure::Trial;
 use crate::report::{self, chart::ChartOptions};
 use crate::results::{Cell, CellKey, Results};
 use crate::sweep::{Observer, Progress, Sweep};
+use crate::trace::{CellFilter, Target, TracePlan, DEFAULT_FRAMES};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -106,6 +107,11 @@ fn start(args: &SweepArgs) -> Result<Option<Start>, CliError> {
         {
             eprintln!("oceanbench: {note}");
         }
+        let trace = args
+            .trace
+            .as_ref()
+            .map(|dir| trace_plan(dir, args, &config))
+            .transpose()?;
         let dir = args
             .out
             .clone()
@@ -125,6 +131,9 @@ fn start(args: &SweepArgs) -> Result<Option<Start>, CliError> {
         });
         eprintln!("oceanbench: calibrating; results go to {}", dir.display());
         let mut sweep = Sweep::prepare(config)?;
+        if let Some(plan) = trace {
+            sweep = sweep.tracing(plan);
+        }
         sweep.results.doctor = doctor;
         sweep.results.command = Some(command_line());
         return Ok(Some(Start {
@@ -179,6 +188,27 @@ fn start(args: &SweepArgs) -> Result<Option<Start>, CliError> {
         _locks: locks,
         frame_log,
     }))
+}
+
+/// `--trace DIR`: the folder, the cells `--trace-cells` chooses (at least one of the config's)
+/// and the frames each trace keeps.
+fn trace_plan(dir: &Path, args: &SweepArgs, config: &SweepConfig) -> Result<TracePlan, InputError> {
+    let cells = CellFilter::parse(&args.trace_cells)?;
+    let all = crate::sweep::cells(config);
+    if !all.iter().any(|k| cells.chooses(k)) {
+        return Err(InputError(format!(
+            "--trace-cells: `{}` chooses none of the config's {} cells",
+            args.trace_cells.join(","),
+            all.len()
+        )));
+    }
+    TracePlan::new(
+        Target::Dir(dir.to_path_buf()),
+        cells,
+        args.trace_frames
+            .trace_frames
+            .unwrap_or(DEFAULT_FRAMES as i64),
+    )
 }
 
 pub(super) fn sweep(args: SweepArgs) -> Result<(), CliError> {

@@ -2,6 +2,7 @@
 //! runs from its start to frame k+1's start (PresentMon's MsBetweenPresents), so a trial's frame
 //! times add up to its wall time and nothing between frames goes unmeasured.
 
+use super::timeline::{Capture, FrameMarks, Timeline};
 use super::{Budget, LoopError, LoopSpec};
 use crate::measure::{FrameRecord, Trial};
 use std::time::Instant;
@@ -18,11 +19,15 @@ pub(super) struct FrameCounter<'a> {
     measured_ns: u64,
     records: Vec<FrameRecord>,
     checksum: Option<u64>,
+    /// The first measured frames' instants, only when a trace was asked for.
+    capture: Option<Capture>,
 }
 
 impl<'a> FrameCounter<'a> {
-    /// Starts the first frame now.
-    pub fn new(budget: &'a Budget) -> Self {
+    /// Starts the first frame now; with `trace`, keeps the instants of that many measured
+    /// frames of a loop with `helpers` helper threads.
+    pub fn new(budget: &'a Budget, trace: Option<usize>, helpers: usize) -> Self {
+        let capture = trace.map(|cap| Capture::new(cap, helpers));
         FrameCounter {
             budget,
             frame: 0,
@@ -31,7 +36,16 @@ impl<'a> FrameCounter<'a> {
             measured_ns: 0,
             records: Vec::with_capacity(budget.min_frames.min(1 << 20) as usize),
             checksum: None,
+            capture,
         }
+    }
+
+    /// The current frame's trace marks, when it is traced.
+    pub fn marks(&mut self) -> Option<FrameMarks<'_>> {
+        if self.frame < self.budget.warmup_frames {
+            return None;
+        }
+        self.capture.as_mut()?.marks()
     }
 
     /// When the current frame started.
@@ -59,6 +73,9 @@ impl<'a> FrameCounter<'a> {
         if self.frame >= self.budget.warmup_frames {
             self.measuring_since.get_or_insert(self.started);
             self.measured_ns += total;
+            if let Some(capture) = &mut self.capture {
+                capture.finish(self.frame, self.started, end, &record);
+            }
             self.records.push(record);
         }
         self.frame += 1;
@@ -75,15 +92,16 @@ impl<'a> FrameCounter<'a> {
         Ok(false)
     }
 
-    /// The measured frames.
-    pub fn trial(self) -> Trial {
+    /// The measured frames, and the timeline of the traced ones.
+    pub fn trial(self) -> (Trial, Option<Timeline>) {
         let wall_ns = self
             .measuring_since
             .map_or(0, |since| (self.started - since).as_nanos() as u64);
-        Trial {
+        let trial = Trial {
             frames: self.records,
             wall_ns,
             checksum: self.checksum,
-        }
+        };
+        (trial, self.capture.map(Capture::timeline))
     }
 }

@@ -47,6 +47,7 @@ impl Stop for Latest {
 pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
+    trace: Option<usize>,
     ocean: Box<dyn Stepper>,
     work: &mut Work,
     mut observe: F,
@@ -89,7 +90,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
         last: None,
         work,
     };
-    drive(spec, budget, start, |frames, shared| {
+    drive(spec, budget, trace, start, |frames, shared| {
         consume(spec, frames, shared, &mut *output, &mut main, &mut observe)
     })
 }
@@ -145,6 +146,11 @@ fn consume<F: FnMut(u64, &Mesh)>(
     let on_mesh = spec.work_on_mesh(work, index, consumed)?;
     observe(index, consumed);
     let t3 = Instant::now();
+    if let Some(mut marks) = frames.marks() {
+        // The free-running helper never waits for a buffer.
+        marks.helper(0, 0, frame.started, frame.published);
+        marks.main([t1, t2, t3], on_mesh);
+    }
     let ahead = shared
         .published
         .load(Ordering::Acquire)

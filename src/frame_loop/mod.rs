@@ -17,11 +17,13 @@ mod pool;
 mod serial;
 mod slots;
 mod spawn;
+mod timeline;
 
 pub use crate::cell::axes::{
     check_depth, check_helpers, check_policy, Mode, Threading, MAX_DEPTH, MAX_HELPERS,
 };
 pub use consume::{read, Consume, ReadPass};
+pub use timeline::{HelperSpan, Timeline, TracedFrame};
 
 use crate::affinity::{self, Pin};
 use crate::camera::Camera;
@@ -287,6 +289,8 @@ pub struct LoopRun {
     pub work_record: Option<WorkRecord>,
     /// Each thread's run delay and preemptions, and each core's steal, during the loop.
     pub noise: TrialNoise,
+    /// The first measured frames' timeline, when [`run_traced`] asked for one.
+    pub timeline: Option<Timeline>,
 }
 
 /// What a loop measured, before the work's digest and record join it in [`run`].
@@ -295,6 +299,7 @@ pub(crate) struct Measured {
     main_pin: Pin,
     helper_pins: Vec<Pin>,
     noise: TrialNoise,
+    timeline: Option<Timeline>,
 }
 
 impl LoopRun {
@@ -308,6 +313,7 @@ impl LoopRun {
             work_digest: output.digest(),
             work_record: output.record(),
             noise: measured.noise,
+            timeline: measured.timeline,
         }
     }
 
@@ -396,6 +402,20 @@ pub fn run<F>(spec: &LoopSpec, budget: &Budget, observe: F) -> Result<LoopRun, L
 where
     F: FnMut(u64, &Mesh) + Send,
 {
+    run_traced(spec, budget, None, observe)
+}
+
+/// [`run`], keeping with `trace` the timeline of that many first measured frames in
+/// [`LoopRun::timeline`] (from the instants the loop reads anyway; see [`Timeline`]).
+pub fn run_traced<F>(
+    spec: &LoopSpec,
+    budget: &Budget,
+    trace: Option<usize>,
+    observe: F,
+) -> Result<LoopRun, LoopError>
+where
+    F: FnMut(u64, &Mesh) + Send,
+{
     spec.check()?;
     let ocean = crate::projected::stepper(
         spec.grid_kind,
@@ -418,12 +438,12 @@ where
                     .build(&spec.work_spec(), &spec.work_params);
                 let work = &mut work;
                 let measured = match (spec.mode, spec.threading) {
-                    (Mode::Serial, _) => serial::run(spec, budget, ocean, work, observe),
+                    (Mode::Serial, _) => serial::run(spec, budget, trace, ocean, work, observe),
                     _ if spec.policy == Policy::Latest => {
-                        latest::run(spec, budget, ocean, work, observe)
+                        latest::run(spec, budget, trace, ocean, work, observe)
                     }
-                    (_, Threading::Pool) => pool::run(spec, budget, ocean, work, observe),
-                    (_, Threading::Spawn) => spawn::run(spec, budget, ocean, work, observe),
+                    (_, Threading::Pool) => pool::run(spec, budget, trace, ocean, work, observe),
+                    (_, Threading::Spawn) => spawn::run(spec, budget, trace, ocean, work, observe),
                 }?;
                 Ok(LoopRun::of(measured, work))
             })

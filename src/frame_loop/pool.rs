@@ -109,13 +109,14 @@ impl<S: Stop> Drop for Helpers<S> {
 pub(super) fn drive<S: Stop>(
     spec: &LoopSpec,
     budget: &Budget,
+    trace: Option<usize>,
     start: impl FnOnce() -> Result<Helpers<S>, LoopError>,
     mut frame: impl FnMut(&mut FrameCounter, &S) -> Result<FrameRecord, LoopError>,
 ) -> Result<Measured, LoopError> {
     let main_pin = affinity::pin_current(spec.main_core);
     let (cores, main) = (CoreWatch::start(spec), ThreadWatch::start(spec.main_core));
     let helpers = start()?;
-    let mut frames = FrameCounter::new(budget);
+    let mut frames = FrameCounter::new(budget, trace, spec.helpers());
     loop {
         let record = frame(&mut frames, &helpers.shared)?;
         if frames.finish(record, spec)? {
@@ -128,8 +129,10 @@ pub(super) fn drive<S: Stop>(
         helper_pins.push(pin);
         threads.push(noise);
     }
+    let (trial, timeline) = frames.trial();
     Ok(Measured {
-        trial: frames.trial(),
+        trial,
+        timeline,
         main_pin,
         helper_pins,
         noise: cores.stop(threads),
@@ -140,6 +143,7 @@ pub(super) fn drive<S: Stop>(
 pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
+    trace: Option<usize>,
     ocean: Box<dyn Stepper>,
     work: &mut Work,
     mut observe: F,
@@ -147,7 +151,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     // Each helper gets its own stepper (the fast kernel keeps per-band tables in it), split
     // from the cell's so that a model whose phases read each other's bands shares that state.
     let start = || {
-        let shared = Shared::new(spec);
+        let shared = Shared::new(spec, trace.is_some());
         let mut steppers = match shared.parts.len() {
             1 => vec![ocean],
             _ => ocean.split(&shared.bands()),
@@ -182,7 +186,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     };
     let mut render = spec.blank_mesh();
     let mut held = 0;
-    drive(spec, budget, start, |frames, shared| {
+    drive(spec, budget, trace, start, |frames, shared| {
         consume(
             spec,
             frames,

@@ -15,6 +15,7 @@ use std::time::Instant;
 pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
+    trace: Option<usize>,
     mut ocean: Box<dyn Stepper>,
     work: &mut Work,
     mut observe: F,
@@ -23,7 +24,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     let (cores, main) = (CoreWatch::start(spec), ThreadWatch::start(spec.main_core));
     let mut mesh = spec.blank_mesh();
     let mut render = spec.blank_mesh();
-    let mut frames = FrameCounter::new(budget);
+    let mut frames = FrameCounter::new(budget, trace, 0);
     loop {
         let k = frames.frame;
         let t0 = frames.start();
@@ -38,6 +39,11 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
         let on_mesh = spec.work_on_mesh(work, k, consumed)?;
         observe(k, consumed);
         let t3 = Instant::now();
+        if let Some(mut marks) = frames.marks() {
+            // The step ran on this thread, with no wait for a slot.
+            marks.helper(0, 0, t1, t2);
+            marks.main([t1, t2, t3], on_mesh);
+        }
         let record = FrameRecord {
             total_ns: ns(t3 - t0),
             workload_ns: ns(t1 - t0 + on_mesh),
@@ -54,8 +60,10 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
             break;
         }
     }
+    let (trial, timeline) = frames.trial();
     Ok(Measured {
-        trial: frames.trial(),
+        trial,
+        timeline,
         main_pin,
         helper_pins: Vec::new(),
         noise: cores.stop(vec![main.stop("main".into())]),

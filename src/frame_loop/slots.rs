@@ -10,6 +10,7 @@
 use super::barrier::{Broken, PhaseBarrier};
 use super::consume::{self, Consume};
 use super::frames::FrameCounter;
+use super::timeline::{PhaseMarks, TRACED_PHASES};
 use super::{LoopError, LoopSpec};
 use crate::measure::FrameRecord;
 use crate::ocean::{Grid, Mesh, MeshRows, Stepper};
@@ -56,6 +57,8 @@ pub(super) struct Part {
     /// The ring between this helper and the main thread.
     pub handoff: Box<dyn Handoff>,
     stamps: Vec<Slot<Stamp>>,
+    /// Beside each stamp, when each phase of a split step ran; only in a traced loop.
+    phases: Option<Vec<Slot<PhaseMarks>>>,
 }
 
 /// One mesh of the ring, with the base pointers of its arrays, taken while the mesh was
@@ -138,8 +141,9 @@ unsafe impl Sync for Shared {}
 unsafe impl Send for Shared {}
 
 impl Shared {
-    /// A ring of `spec.depth` meshes for `spec`'s grid, split evenly among `spec.helpers()`.
-    pub fn new(spec: &LoopSpec) -> Shared {
+    /// A ring of `spec.depth` meshes for `spec`'s grid, split evenly among `spec.helpers()`;
+    /// `traced`: with room for the phases' instants a trace draws.
+    pub fn new(spec: &LoopSpec, traced: bool) -> Shared {
         let depth = spec.depth.max(1);
         let slots = (0..depth)
             .map(|_| MeshSlot::new(spec.blank_mesh()))
@@ -158,6 +162,11 @@ impl Shared {
                 rows: k * n / h..(k + 1) * n / h,
                 handoff: spec.sync.handoff(depth),
                 stamps: (0..depth).map(|_| Slot::new(blank)).collect(),
+                phases: traced.then(|| {
+                    (0..depth)
+                        .map(|_| Slot::new([None; TRACED_PHASES]))
+                        .collect()
+                }),
             })
             .collect();
         Shared {
@@ -230,8 +239,15 @@ pub(super) fn produce(
             // Before phase 0 too: no helper starts frame k while another still reads frame
             // k − 1's shared state in its last phase.
             shared.barrier.wait(Instant::now() + spec.timeout)?;
+            let began = part.phases.is_some().then(Instant::now);
             // SAFETY: as above.
             ocean.step_phase(phase, t, unsafe { shared.band(s, h) });
+            if let (Some(marks), Some(began)) = (&part.phases, began) {
+                if phase < TRACED_PHASES {
+                    // SAFETY: like the stamp, helper h's until it publishes.
+                    unsafe { (*marks[s].get_mut())[phase] = Some((began, Instant::now())) };
+                }
+            }
         }
     }
     let published = Instant::now();
@@ -299,9 +315,17 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
     let mut started = t2;
     let mut published = None;
     let mut wrong = None;
-    for part in &shared.parts {
+    let mut marks = frames.marks();
+    for (h, part) in shared.parts.iter().enumerate() {
         // SAFETY: as above, the stamp is published and not yet released.
         let stamp = unsafe { part.stamps[s].get() };
+        if let Some(marks) = &mut marks {
+            marks.helper(h, stamp.waited.ns, stamp.started, stamp.published);
+            if let Some(phases) = &part.phases {
+                // SAFETY: as above, published with the stamp and not yet released.
+                marks.phases(h, unsafe { *phases[s].get() });
+            }
+        }
         step_ns = step_ns.max(stamp.step_ns);
         helpers_waited.ns = helpers_waited.ns.max(stamp.waited.ns);
         helpers_waited.cpu_ns += stamp.waited.cpu_ns;
@@ -337,6 +361,9 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
         took
     };
     let t3 = Instant::now();
+    if let Some(mut marks) = frames.marks() {
+        marks.main([t1, t2, t3], on_mesh);
+    }
     if let Some(index) = wrong {
         return Err(LoopError::Helper(format!(
             "frame {k} expected, helper delivered frame {index}"

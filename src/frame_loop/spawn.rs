@@ -16,6 +16,7 @@ use std::time::Instant;
 pub(super) fn run<F: FnMut(u64, &Mesh)>(
     spec: &LoopSpec,
     budget: &Budget,
+    trace: Option<usize>,
     ocean: Box<dyn Stepper>,
     work: &mut Work,
     mut observe: F,
@@ -23,7 +24,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
     let main_pin = affinity::pin_current(spec.main_core);
     let (cores, main) = (CoreWatch::start(spec), ThreadWatch::start(spec.main_core));
     let core = spec.helper_cores[0];
-    let shared = Arc::new(Shared::new(spec));
+    let shared = Arc::new(Shared::new(spec, trace.is_some()));
     let mut ocean = Some(ocean);
     let mut helpers = Pin { core, held: true };
     let mut suffered = ThreadNoise {
@@ -32,7 +33,7 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
         ..ThreadNoise::default()
     };
     let mut render = spec.blank_mesh();
-    let mut frames = FrameCounter::new(budget);
+    let mut frames = FrameCounter::new(budget, trace, 1);
     let mut held = 0;
     loop {
         let k = frames.frame;
@@ -84,8 +85,10 @@ pub(super) fn run<F: FnMut(u64, &Mesh)>(
             break;
         }
     }
+    let (trial, timeline) = frames.trial();
     Ok(Measured {
-        trial: frames.trial(),
+        trial,
+        timeline,
         main_pin,
         helper_pins: vec![helpers],
         noise: cores.stop(vec![main.stop("main".into()), suffered]),

@@ -278,6 +278,16 @@ pub fn all() -> Vec<(&'static str, &'static str, String)> {
             crate::exit::EXIT_BAD_INPUT.to_string(),
         ),
         (
+            "trace_default_frames",
+            "measured frames a trace keeps without --trace-frames",
+            crate::trace::DEFAULT_FRAMES.to_string(),
+        ),
+        (
+            "trace_max_frames",
+            "the most frames --trace-frames allows",
+            crate::trace::MAX_FRAMES.to_string(),
+        ),
+        (
             "exit_interrupted",
             "the exit status of a command stopped by Ctrl-C or SIGTERM",
             crate::exit::EXIT_INTERRUPTED.to_string(),
