@@ -555,6 +555,19 @@ fn the_page_opens_with_the_verdict_and_links_every_section() {
     let shown: Vec<String> = doc.select(&sel("#findings li")).map(text).collect();
     assert_eq!(shown.len(), findings.len());
     assert!(!shown.is_empty() && shown[0] == findings[0].sentence);
+    // What ran is collapsed, as the full config inside it; the machine and the noise
+    // warnings stay open.
+    let collapsed: Vec<String> = doc
+        .select(&sel("details#what-ran-list dl.facts dt"))
+        .map(text)
+        .collect();
+    assert!(
+        collapsed.contains(&"trials per cell".to_string()),
+        "{collapsed:?}"
+    );
+    let hidden = sel("details#what-ran-list #noise-warnings");
+    assert!(doc.select(&hidden).next().is_none());
+    assert!(doc.select(&sel("#noise-warnings")).next().is_some());
     let machine = text(doc.select(&sel("#verdict-machine")).next().unwrap());
     assert!(machine.contains(&results.machine.cpu_model), "{machine}");
     // A run of several slices heads each slice's findings with its values.

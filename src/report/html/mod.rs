@@ -218,18 +218,24 @@ fn what_was_run(results: &Results) -> Markup {
         .collect();
     html! {
         h2 id="what-ran" { "What was run" }
-        dl.facts {
-            dt { "config" } dd { code { (config.name) } }
-            dt { "description" } dd {
-                @if config.description.is_empty() { span.missing { "none given" } }
-                @else { (config.description) }
+        details id="what-ran-list" {
+            summary {
+                "Config " code { (config.name) } ", " (results.cells.len()) " cells, "
+                (config.trials) " trial(s) per cell: its lists and levels"
             }
-            dt { "command line" } dd { (or_missing(results.command.as_deref().map(command_line).as_deref().map(|c| html! { code { (c) } }))) }
-            @for (d, values) in &dims {
-                dt { (d.config_key()) } dd { (values) }
+            dl.facts {
+                dt { "config" } dd { code { (config.name) } }
+                dt { "description" } dd {
+                    @if config.description.is_empty() { span.missing { "none given" } }
+                    @else { (config.description) }
+                }
+                dt { "command line" } dd { (or_missing(results.command.as_deref().map(command_line).as_deref().map(|c| html! { code { (c) } }))) }
+                @for (d, values) in &dims {
+                    dt { (d.config_key()) } dd { (values) }
+                }
+                dt { "workload levels" } dd { (markdown::levels(results)) }
+                dt { "trials per cell" } dd { (config.trials) }
             }
-            dt { "workload levels" } dd { (markdown::levels(results)) }
-            dt { "trials per cell" } dd { (config.trials) }
         }
         details {
             summary { "The whole config as recorded" }
