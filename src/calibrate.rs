@@ -214,6 +214,10 @@ pub struct RowCalibration {
     pub ns_per_iteration_in_row: f64,
     /// The microseconds of work per frame the cell's level came to.
     pub level_micros: f64,
+    /// The microseconds the level asked for, when its kind could not come within
+    /// [`DRIFT_WARNING`] of them (fog on a mesh whose vertex pass alone takes longer).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub asked_micros: Option<f64>,
 }
 
 impl RowCalibration {
@@ -230,6 +234,12 @@ impl RowCalibration {
     /// Whether either drifted by more than [`DRIFT_WARNING`].
     pub fn drifted(&self) -> bool {
         self.step_drift().abs() > DRIFT_WARNING || self.workload_drift().abs() > DRIFT_WARNING
+    }
+
+    /// `asked` when the `ran` µs are more than [`DRIFT_WARNING`] away from it, for
+    /// [`RowCalibration::asked_micros`].
+    pub fn missed(asked: f64, ran: f64) -> Option<f64> {
+        ((ran - asked).abs() > DRIFT_WARNING * asked.max(f64::MIN_POSITIVE)).then_some(asked)
     }
 }
 
@@ -298,6 +308,7 @@ mod tests {
             ns_per_iteration_at_start: 6.0,
             ns_per_iteration_in_row: 6.0,
             level_micros: 0.0,
+            asked_micros: None,
         };
         assert_eq!(c.step_drift(), 0.25);
         assert_eq!(c.workload_drift(), 0.0);

@@ -541,6 +541,7 @@ impl Sweep {
             camera: config.camera,
             given: level.amount().map(|(_, a)| a),
         };
+        let asked = micros;
         let (micros, iterations) = match key.workload_kind.kind() {
             Ok(kind) => kind.row_level(params, &at, micros, iterations),
             Err(_) => (micros, iterations),
@@ -552,6 +553,11 @@ impl Sweep {
             ns_per_iteration_at_start: start.ns_per_iteration,
             ns_per_iteration_in_row: row.ns_per_iteration,
             level_micros: micros,
+            asked_micros: at
+                .given
+                .is_none()
+                .then(|| RowCalibration::missed(asked, micros))
+                .flatten(),
         };
         (iterations, Some(calibration))
     }

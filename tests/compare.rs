@@ -617,6 +617,7 @@ fn pairs_whose_levels_came_to_other_microseconds_are_marked() {
             ns_per_iteration_at_start: 1.0,
             ns_per_iteration_in_row: 1.0,
             level_micros: micros,
+            asked_micros: None,
         });
         r
     };

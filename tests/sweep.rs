@@ -214,7 +214,11 @@ fn fog_levels_in_micros_resolve_to_a_volume_through_its_own_calibration() {
                     "{what}"
                 );
                 let cal = c.calibration.as_ref().unwrap();
-                assert_eq!(cal.level_micros, 3000.0, "{what}");
+                assert_eq!(
+                    (cal.level_micros, cal.asked_micros),
+                    (3000.0, None),
+                    "{what}"
+                );
             }
             (_, w) => {
                 assert_eq!(c.workload_unit(), "iterations", "{what}");
@@ -223,6 +227,38 @@ fn fog_levels_in_micros_resolve_to_a_volume_through_its_own_calibration() {
             }
         }
     }
+}
+
+/// Fog below its smallest pass: on a 256×256 mesh the vertices' coefficients alone outlast
+/// 20 µs, so the row runs a 1³ volume and records the µs that ran beside the µs asked, and the
+/// run's warnings name the row.
+#[test]
+fn fog_below_its_vertex_pass_records_what_ran() {
+    use oceanbench::workload::WorkloadKind;
+    let mut config = tiny("fog-floor");
+    config.axes.sizes = vec![256];
+    config.axes.modes = vec![Mode::Serial];
+    config.axes.workload_kind = vec![WorkloadKind::FOG];
+    config.axes.workloads = vec![1];
+    config.workload_levels = vec![Level::micros(0.0), Level::micros(20.0)];
+    config.trials = 1;
+    let results = Sweep::prepare(config).unwrap().run(&mut ());
+    let [c] = &results.cells[..] else {
+        panic!("one cell: {:?}", results.cells.len())
+    };
+    let cal = c.calibration.as_ref().unwrap();
+    assert_eq!(c.workload_amount, Some(1));
+    assert_eq!(cal.asked_micros, Some(20.0));
+    assert!(cal.level_micros > 22.0, "ran {} µs", cal.level_micros);
+    let warnings = oceanbench::report::markdown::noise_warnings(&results);
+    assert!(
+        warnings.iter().any(
+            |w| w.starts_with("1 row(s) ran more work than their level asked")
+                && w.contains("asked 20 µs")
+                && w.contains("1³ voxels")
+        ),
+        "{warnings:?}"
+    );
 }
 
 /// A level in µs that no volume up to 512³ reaches is refused before anything runs.

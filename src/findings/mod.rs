@@ -285,7 +285,11 @@ fn level(results: &Results, cell: &Cell) -> String {
             return format!("workload {w} ({:.0} µs)", l.micros);
         }
     }
-    format!("workload {w} ({amount} {})", cell.workload_unit())
+    let amount = cell
+        .key
+        .workload_kind
+        .amount_text(amount, cell.workload_unit());
+    format!("workload {w} ({amount})")
 }
 
 /// A cell by its row: `128×128 workload 2`.

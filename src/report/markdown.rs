@@ -241,8 +241,38 @@ pub fn levels(results: &Results) -> String {
         .join(", ")
 }
 
+/// Rows whose kind could not come down to the µs their level asked (fog whose vertex pass
+/// alone outlasts the level), naming what ran instead.
+fn missed_levels(results: &Results) -> Option<String> {
+    let mut rows: Vec<String> = Vec::new();
+    for c in &results.cells {
+        let Some(cal) = &c.calibration else { continue };
+        let Some(asked) = cal.asked_micros else {
+            continue;
+        };
+        let row = format!(
+            "{} (asked {asked:.0} µs, ran {:.0} µs: {})",
+            c.key.row_label(),
+            cal.level_micros,
+            c.key
+                .workload_kind
+                .amount_text(c.workload_amount(), c.workload_unit())
+        );
+        if !rows.contains(&row) {
+            rows.push(row);
+        }
+    }
+    (!rows.is_empty()).then(|| {
+        format!(
+            "{} row(s) ran more work than their level asked, the least their workload kind does on that mesh: {}; results.json keeps both (`asked_micros`, `level_micros`)",
+            rows.len(),
+            rows.join(", ")
+        )
+    })
+}
+
 /// What makes a run's figures less trustworthy: rows whose yardstick drifted since the start
-/// of the sweep, cells that kept trials disturbed beyond the noise threshold, slow trials, and
+/// of the sweep, rows whose level could not be met, cells that kept trials disturbed beyond the noise threshold, slow trials, and
 /// cells whose trials mixed placements.
 pub fn noise_warnings(results: &Results) -> Vec<String> {
     let mut out = Vec::new();
@@ -275,6 +305,7 @@ pub fn noise_warnings(results: &Results) -> Vec<String> {
             drifted.join(", ")
         ));
     }
+    out.extend(missed_levels(results));
     let mut noisy: Vec<(&Cell, &CellNoise)> = results
         .cells
         .iter()

@@ -63,6 +63,15 @@ impl WorkloadKind {
         self.kind().map_or("", |k| k.unit())
     }
 
+    /// `amount` of its work as sentences and ticks name it (`19³ voxels`); a kind this program
+    /// does not register reads `{amount} {unit}` with the unit its results recorded.
+    pub fn amount_text(self, amount: u64, recorded_unit: &str) -> String {
+        self.kind().map_or_else(
+            |_| format!("{amount} {recorded_unit}"),
+            |k| k.amount_text(amount),
+        )
+    }
+
     /// Refuses a surface the kind cannot work on, or a kind this program does not know.
     pub fn check_surface(self, ocean: OceanKind, grid: GridKind) -> Result<(), InputError> {
         self.kind()?.check_surface(ocean, grid)
@@ -100,6 +109,11 @@ pub trait Kind: Send + Sync + 'static {
 
     /// The unit a level is counted in.
     fn unit(&self) -> &'static str;
+
+    /// `amount` in words, for findings and chart ticks.
+    fn amount_text(&self, amount: u64) -> String {
+        format!("{amount} {}", self.unit())
+    }
 
     /// Refuses parameters it cannot run; the message names `kind.key`.
     fn check_params(&self, params: &Self::Params) -> Result<(), InputError> {
@@ -231,6 +245,8 @@ pub trait DynKind: Send + Sync {
     fn doc(&self) -> &'static str;
     /// See [`Kind::unit`].
     fn unit(&self) -> &'static str;
+    /// See [`Kind::amount_text`].
+    fn amount_text(&self, amount: u64) -> String;
     /// Its default config object, `None` for a kind without parameters.
     fn default_params(&self) -> Option<serde_json::Value>;
     /// Parses and checks its config object (the defaults when `raw` is `None`).
@@ -264,6 +280,10 @@ impl<K: Kind> DynKind for K {
 
     fn unit(&self) -> &'static str {
         Kind::unit(self)
+    }
+
+    fn amount_text(&self, amount: u64) -> String {
+        Kind::amount_text(self, amount)
     }
 
     fn default_params(&self) -> Option<serde_json::Value> {

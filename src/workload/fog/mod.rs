@@ -255,6 +255,10 @@ impl Kind for FogKind {
         Fog::UNIT
     }
 
+    fn amount_text(&self, amount: u64) -> String {
+        format!("{amount}³ voxels")
+    }
+
     fn check_params(&self, params: &FogParams) -> Result<(), InputError> {
         params.validate()
     }
@@ -265,12 +269,15 @@ impl Kind for FogKind {
 
     /// A level in volumes is timed by its own pass; µs (or a step fraction's µs) come to the
     /// edge whose pass takes that long, at most [`MAX_VOLUME`] (the start refuses levels beyond).
+    /// Below the smallest pass (a 1³ volume and the mesh's vertices), the row runs that pass and
+    /// records its µs, not the level's: the vertex coefficients alone can outlast the level.
     fn row_level(&self, params: &FogParams, at: &LevelAt, micros: f64, amount: u64) -> (f64, u64) {
         if at.given.is_some() {
             let cost = calibrate::measure(params, at.grid, at.camera, amount);
             return (if amount == 0 { 0.0 } else { cost.micros() }, amount);
         }
         match calibrate::volume_for(params, at.grid, at.camera, micros) {
+            Ok((1, Some(cost))) if cost.micros() > micros => (cost.micros(), 1),
             Ok((edge, _)) => (micros, edge),
             Err(_) => (micros, MAX_VOLUME),
         }
