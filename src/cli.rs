@@ -98,6 +98,15 @@ impl DimArgs {
     pub fn flag(dim: Dim) -> String {
         dim.name().replace('_', "-")
     }
+
+    /// The config key of each dimension given, with its flag, for
+    /// [`InputError::naming_flags`](crate::config::InputError::naming_flags).
+    pub fn flag_fields(&self) -> Vec<(&'static str, String)> {
+        self.given
+            .iter()
+            .map(|(dim, _)| (dim.config_key(), format!("--{}", Self::flag(*dim))))
+            .collect()
+    }
 }
 
 impl clap::FromArgMatches for DimArgs {
@@ -169,6 +178,27 @@ pub struct NoiseArgs {
 }
 
 impl NoiseArgs {
+    /// The config key of each flag given, with the flag.
+    pub fn flag_fields(&self) -> Vec<(&'static str, String)> {
+        [
+            (
+                "noise_threshold_percent",
+                "--noise-threshold",
+                self.noise_threshold.is_some(),
+            ),
+            ("retry_noisy", "--retry-noisy", self.retry_noisy.is_some()),
+            (
+                "slow_trial_percent",
+                "--slow-trial-percent",
+                self.slow_trial_percent.is_some(),
+            ),
+        ]
+        .into_iter()
+        .filter(|&(_, _, given)| given)
+        .map(|(field, flag, _)| (field, flag.to_string()))
+        .collect()
+    }
+
     /// The config with these flags applied.
     pub fn apply(&self, config: &mut crate::config::SweepConfig) {
         if let Some(c) = self.calibrate {
@@ -305,6 +335,35 @@ pub struct CameraArgs {
 const DEFAULT_PATH_PERIOD: f32 = 30.0;
 
 impl CameraArgs {
+    /// The config key of each flag given, with the flag.
+    pub fn flag_fields(&self) -> Vec<(&'static str, String)> {
+        [
+            (
+                "camera.height",
+                "--camera-height",
+                self.camera_height.is_some(),
+            ),
+            ("camera.pitch_degrees", "--pitch", self.pitch.is_some()),
+            ("camera.fov_degrees", "--fov", self.fov.is_some()),
+            ("camera.aspect", "--aspect", self.aspect.is_some()),
+            ("camera.far", "--far", self.far.is_some()),
+            (
+                "camera.path.radius",
+                "--path-radius",
+                self.path_radius.is_some(),
+            ),
+            (
+                "camera.path.period_seconds",
+                "--path-period",
+                self.path_period.is_some(),
+            ),
+        ]
+        .into_iter()
+        .filter(|&(_, _, given)| given)
+        .map(|(field, flag, _)| (field, flag.to_string()))
+        .collect()
+    }
+
     /// The camera with these flags applied (validated by the caller).
     pub fn apply(&self, camera: &mut crate::camera::Camera) {
         if let Some(h) = self.camera_height {

@@ -22,22 +22,28 @@ fn bad_flags_exit_2_with_one_line() {
     refuses(&["run", "--sync", "futexes"], &["--sync", "futex"]);
     refuses(&["run", "--normals", "x"], &["lookup, neighbors, analytic"]);
     refuses(&["run", "--ocean", "nope"], &["--ocean", "nope", "sines"]);
-    refuses(&["run", "--size", "1"], &["size", "2 to"]);
+    refuses(&["run", "--size", "1"], &["--size:", "2 to"]);
     refuses(&["run", "--size", "abc"], &["--size"]);
-    refuses(&["run", "--workload", "9"], &["workloads", "0 to 3"]);
-    refuses(&["run", "--trials", "0"], &["trials", "1 to 1000"]);
-    // A negative number is a value out of range, not an unknown argument.
-    refuses(&["run", "--seconds", "-1"], &["min_seconds", ">= 0", "-1"]);
+    refuses(&["run", "--workload", "9"], &["--workload:", "0 to 3"]);
+    refuses(&["run", "--trials", "0"], &["--trials:", "1 to 1000"]);
+    // A negative number is a value out of range, not an unknown argument, and the error names
+    // the flag typed, not the config key it sets.
+    refuses(&["run", "--seconds", "-1"], &["--seconds:", ">= 0", "-1"]);
+    refuses(
+        &["run", "--max-seconds", "0"],
+        &["--max-seconds:", ">= --seconds (1)"],
+    );
+    refuses(&["run", "--pitch", "400"], &["--pitch:", "at most 90"]);
     refuses(
         &["run", "--timeout", "-3"],
-        &["timeout_seconds", "at most 86400"],
+        &["--timeout:", "at most 86400"],
     );
     refuses(
         &["run", "--noise-threshold", "-4"],
-        &["noise_threshold", "below 100"],
+        &["--noise-threshold:", "below 100"],
     );
     refuses(&["latency", "--samples", "0"], &["--samples", "1 to"]);
-    refuses(&["run", "--cores", "0,999"], &["cores", "allowed"]);
+    refuses(&["run", "--cores", "0,999"], &["--cores:", "allowed"]);
     refuses(
         &["run", "--normals", "lookup", "--size", "300"],
         &["lookup"],

@@ -82,8 +82,10 @@ pub(super) fn balance(args: BalanceArgs) -> Result<(), CliError> {
     if let Some(t) = args.trials {
         settings.trials = t;
     }
+    let mut flags = args.select.flag_fields();
     if let Some(cores) = &args.cores {
         config.cores = Some(cores.clone());
+        flags.push(("cores", "--cores".into()));
     }
     settings.validate("--")?;
     if let Some(bad) = config.axes.modes.iter().find(|m| **m == Mode::Serial) {
@@ -93,7 +95,7 @@ pub(super) fn balance(args: BalanceArgs) -> Result<(), CliError> {
         .into());
     }
     config.balance = Some(settings.clone());
-    config.validate()?;
+    config.validate().map_err(|e| e.naming_flags(&flags))?;
     let dir = args
         .out
         .clone()

@@ -52,7 +52,28 @@ fn ignored_flags(cell: &DimArgs, axes: &Axes) -> Vec<String> {
         .collect()
 }
 
+/// The config keys `run`'s flags set, each with its flag, so that an error names what was typed.
+fn flag_fields(args: &RunArgs) -> Vec<(&'static str, String)> {
+    let mut fields: Vec<(&'static str, String)> = [
+        ("min_seconds", "--seconds"),
+        ("min_frames", "--frames"),
+        ("max_seconds", "--max-seconds"),
+        ("trials", "--trials"),
+        ("timeout_seconds", "--timeout"),
+        ("cores", "--cores"),
+        ("workload_levels[0].micros", "--workload-micros"),
+    ]
+    .into_iter()
+    .map(|(field, flag)| (field, flag.to_string()))
+    .collect();
+    fields.extend(args.cell.flag_fields());
+    fields.extend(args.noise.flag_fields());
+    fields.extend(args.camera.flag_fields());
+    fields
+}
+
 pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
+    let flags = flag_fields(&args);
     let mut cells = axes(&args.cell);
     // Normals the flags left out are fitted as a config's are, so `run --grid projected` and
     // `run --helpers 2` run rather than refuse a value nobody gave.
@@ -92,7 +113,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
         .map(|file| trace_plan(file, &args.trace_frames, &config))
         .transpose()?;
     let _out_lock = args.out.as_deref().map(prepare_out_dir).transpose()?;
-    config.validate()?;
+    config.validate().map_err(|e| e.naming_flags(&flags))?;
     if let Some(note) = crate::sweep::kind_skips(&config) {
         eprintln!("oceanbench: {note}");
     }

@@ -94,10 +94,12 @@ fn start(args: &SweepArgs) -> Result<Option<Start>, CliError> {
     let Some(dir) = &args.resume else {
         let mut config = config.unwrap_or_default();
         args.noise.apply(&mut config);
+        let mut flags = args.noise.flag_fields();
         if let Some(cores) = &args.cores {
             config.cores = Some(cores.clone());
+            flags.push(("cores", "--cores".into()));
         }
-        config.validate()?;
+        config.validate().map_err(|e| e.naming_flags(&flags))?;
         let frame_log = frame_logger(args, &crate::sweep::cells(&config))?;
         for note in config
             .notes
