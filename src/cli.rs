@@ -543,6 +543,10 @@ pub struct CompareArgs {
     /// placement, or workload levels more than 10% apart in microseconds) instead of warning.
     #[arg(long)]
     pub strict: bool,
+    /// Compare only the trials that ran in this placement of the two cores (near or far on a
+    /// VM whose vCPUs moved, `one` when they never did), on both sides.
+    #[arg(long, value_enum)]
+    pub placement: Option<crate::placement::Class>,
 }
 
 /// Flags of `oceanbench latency`.

@@ -641,3 +641,66 @@ fn pairs_whose_levels_came_to_other_microseconds_are_marked() {
     assert!(row.contains('¶'), "{row}");
     assert!(md.contains("¶ compares cells whose workload came to microseconds over 10% apart"));
 }
+
+/// `--placement` compares each cell's trials in one placement only: a new run whose near
+/// trials are 20% slower regresses there, while its far trials, unchanged, are within noise;
+/// a placement where a cell ran no trial leaves it uncompared, never a pass.
+#[test]
+fn placement_compares_the_trials_of_one_placement() {
+    use oceanbench::placement::Class;
+    use oceanbench::slow_trials::TrialRecord;
+    let trial = |fps: f64, placement: &str| -> TrialRecord {
+        serde_json::from_value(serde_json::json!({
+            "fps": fps,
+            "breakdown": {"workload_ms": 0.0, "wait_ms": 1.0, "wait_cpu_ms": 1.0, "copy_ms": 0.01,
+                          "step_ms": 1.0, "other_ms": 0.0},
+            "step_ratio": 1.0, "workload_ratio": null, "round_trip_ns": [80.0, 80.0],
+            "taken_away": false, "placement": placement
+        }))
+        .unwrap()
+    };
+    let run = |near: f64, far: f64| -> Results {
+        let mut r = one_cell(&fixture(), &[1.0]);
+        let jitter = [0.99, 0.995, 1.0, 1.005, 1.01];
+        let cell = &mut r.cells[0];
+        cell.trials = jitter
+            .iter()
+            .flat_map(|k| [trial(near * k, "near"), trial(far * k, "far")])
+            .collect();
+        let fps: Vec<f64> = cell.trials.iter().map(|t| t.fps).collect();
+        set_trials(cell, &fps);
+        cell.summary.as_mut().unwrap().wait_cpu_ms_trials = (0..10).map(f64::from).collect();
+        r
+    };
+    let (base, new) = (run(100.0, 50.0), run(80.0, 50.0));
+
+    let near = new.in_placement(Class::Near);
+    let s = near.cells[0].summary.as_ref().unwrap();
+    let expected = [0.99, 0.995, 1.0, 1.005, 1.01].map(|k| 80.0 * k);
+    assert_eq!(s.fps_trials, expected);
+    assert_eq!(s.wait_cpu_ms_trials, [0.0, 2.0, 4.0, 6.0, 8.0]);
+    assert!(near.cells[0]
+        .trials
+        .iter()
+        .all(|t| t.placement == Some(Class::Near)));
+
+    let verdict = |class: Class| {
+        compare::between(
+            &base.in_placement(class),
+            &new.in_placement(class),
+            5.0,
+            Metric::Fps,
+        )
+        .changes[0]
+            .verdict
+    };
+    assert_eq!(verdict(Class::Near), Verdict::Regressed);
+    assert_eq!(verdict(Class::Far), Verdict::WithinNoise);
+    let none = compare::between(
+        &base.in_placement(Class::Moved),
+        &new.in_placement(Class::Moved),
+        5.0,
+        Metric::Fps,
+    );
+    assert!(none.nothing_compared().is_some(), "{}", none.to_text());
+}

@@ -9,6 +9,12 @@ use crate::results::latency::LatencyRun;
 pub(super) fn compare(args: CompareArgs) -> Result<(), CliError> {
     check_threshold(args.threshold)?;
     let comparison = if LatencyRun::is_latency_run(&args.base) {
+        if args.placement.is_some() {
+            return Err(InputError(
+                "--placement: a latency run measures each placement apart already; it takes no --placement".into(),
+            )
+            .into());
+        }
         latency_comparison(&args)?
     } else {
         runs_comparison(&args)?
@@ -83,10 +89,18 @@ fn runs_comparison(args: &CompareArgs) -> Result<compare::Comparison, CliError> 
         )
         .into());
     }
+    let placed = |r: crate::results::Results| match args.placement {
+        Some(class) => r.in_placement(class),
+        None => r,
+    };
+    let base = placed(base);
     Ok(match (&args.new, args.by, &args.baseline) {
-        (Some(new), None, _) => {
-            compare::between(&base, &load_results(new)?, args.threshold, args.metric)
-        }
+        (Some(new), None, _) => compare::between(
+            &base,
+            &placed(load_results(new)?),
+            args.threshold,
+            args.metric,
+        ),
         (None, Some(by), Some(baseline)) => {
             { compare::within(&base, by, baseline, args.threshold, args.metric) }
                 .map_err(|e| InputError(e.to_string()))?

@@ -17,7 +17,7 @@ const NOISY_NOTE: &str = "† rests on trials in which other tasks or the hyperv
 const OTHER_LEVEL: &str = "¶";
 
 /// The footnote of [`MIXED`].
-const MIXED_NOTE: &str = "§ rests on a cell whose trials ran in more than one placement of the two cores, or compares cells that ran in different placements (round trips over 2× apart): compare within one placement (docs/noise.md)";
+const MIXED_NOTE: &str = "§ rests on a cell whose trials ran in more than one placement of the two cores, or compares cells that ran in different placements (round trips over 2× apart): compare within one placement (`compare --placement near`, docs/noise.md)";
 
 impl Comparison {
     /// "N improved, M regressed, K within noise (threshold T%)", then the below-threshold and

@@ -98,6 +98,35 @@ impl Cell {
         crate::placement::mixed(&classes)
     }
 
+    /// The cell as if only its trials in placement `class` had been kept, for comparing runs
+    /// within one placement: those trials' records, FPS and waiting CPU; no summary (and an
+    /// error naming the placement) when none ran there. The summary's frame times and breakdown
+    /// stay those of every trial: only the per-trial values are split.
+    pub fn in_placement(&self, class: crate::placement::Class) -> Cell {
+        let keep: Vec<bool> = self
+            .trials
+            .iter()
+            .map(|t| t.placement == Some(class))
+            .collect();
+        let mut cell = self.clone();
+        cell.trials.retain(|t| t.placement == Some(class));
+        if cell.trials.is_empty() {
+            cell.summary = None;
+            cell.error = Some(format!("no trial ran in placement {class}"));
+            return cell;
+        }
+        if let Some(s) = &mut cell.summary {
+            s.fps_trials = cell.trials.iter().map(|t| t.fps).collect();
+            s.wait_cpu_ms_trials = if s.wait_cpu_ms_trials.len() == keep.len() {
+                let pairs = s.wait_cpu_ms_trials.iter().zip(&keep);
+                pairs.filter(|(_, &k)| k).map(|(&w, _)| w).collect()
+            } else {
+                Vec::new()
+            };
+        }
+        cell
+    }
+
     /// The cell's workload level in [`Cell::workload_unit`].
     pub fn workload_amount(&self) -> u64 {
         self.workload_amount.unwrap_or(self.workload_iterations)
@@ -320,6 +349,14 @@ pub enum LoadError {
 }
 
 impl Results {
+    /// The run with every cell cut to its trials in placement `class` ([`Cell::in_placement`]).
+    pub fn in_placement(&self, class: crate::placement::Class) -> Results {
+        Results {
+            cells: self.cells.iter().map(|c| c.in_placement(class)).collect(),
+            ..self.clone()
+        }
+    }
+
     /// Reads a results file, or the `results.json` inside a results directory.
     pub fn load(path: &Path) -> Result<Results, LoadError> {
         let path = if path.is_dir() {
