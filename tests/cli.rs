@@ -799,14 +799,14 @@ fn chart_redraws_from_a_results_file_and_refuses_bad_paths() {
         "svg",
     ]);
     assert_success(&out);
-    // The fixture's slices are its methods and helper threadings: Figure 5-1 and the speed-up
-    // are drawn per slice.
+    // The fixture's slices are its methods and helper threadings: every chart is drawn per
+    // slice, those that lay the methods out per threading.
     for name in [
         "figure-5-1-sync-atomic-threading-pool",
         "relative-sync-condvar-std-threading-spawn",
-        "sync",
-        "frame-times",
-        "breakdown",
+        "sync-threading-pool",
+        "frame-times-threading-spawn",
+        "breakdown-threading-pool",
     ] {
         assert!(dir.path().join(format!("{name}.svg")).exists(), "{name}");
     }
