@@ -11,9 +11,11 @@ mod glyphs;
 pub mod history;
 mod latency;
 mod render;
+mod round_trips;
 
 use crate::cell::Mode;
 use crate::cell::{Axes, Dim, DimValue, Value};
+use crate::results::latency::LatencyRun;
 use crate::results::{Cell, CellKey, Results};
 use crate::summary::Summary;
 use crate::sync::SyncMethod;
@@ -67,6 +69,9 @@ pub const CHARTS: [&str; 7] = [
     "latency-vs-fps",
     "balance",
 ];
+
+/// The chart of a latency run, by the file stem it is written under.
+pub const LATENCY_CHART: &str = "round-trips";
 
 /// Chart width and height in pixels (the breakdown grows taller when it has many rows).
 pub const CHART_SIZE: (u32, u32) = (1600, 900);
@@ -139,16 +144,34 @@ pub fn draw_with(
     out_dir: &Path,
     options: &ChartOptions,
 ) -> Result<Drawn, ChartError> {
+    write_all(build(results, options), out_dir, &options.formats)
+}
+
+/// Draws a latency run's chart into `out_dir` in each format.
+pub fn draw_latency(
+    run: &LatencyRun,
+    out_dir: &Path,
+    formats: &[ChartFormat],
+) -> Result<Drawn, ChartError> {
+    write_all(vec![latency_built(run)], out_dir, formats)
+}
+
+/// Writes each drawn chart in each format, and lists the ones with nothing to draw.
+fn write_all(
+    built: Vec<Built>,
+    out_dir: &Path,
+    formats: &[ChartFormat],
+) -> Result<Drawn, ChartError> {
     render::register_font()?;
     std::fs::create_dir_all(out_dir).map_err(|source| ChartError::Dir {
         path: out_dir.to_path_buf(),
         source,
     })?;
     let mut drawn = Drawn::default();
-    for built in build(results, options) {
+    for built in built {
         match built.drawn {
             Ok(chart) => {
-                for &format in &options.formats {
+                for &format in formats {
                     let path = out_dir.join(format!("{}.{}", built.name, format.name()));
                     render::write(&chart, &path, format)?;
                     drawn.files.push(path);
@@ -167,7 +190,7 @@ pub fn draw_with(
 pub struct Svg {
     /// Its file stem: one of [`CHARTS`], with its slice for a chart drawn per slice.
     pub name: String,
-    /// Which of [`CHARTS`] it is.
+    /// Which of [`CHARTS`] (or [`LATENCY_CHART`]) it is.
     pub chart: &'static str,
     /// The SVG text, or why it has nothing to draw.
     pub drawn: Result<String, NothingToDraw>,
@@ -176,21 +199,33 @@ pub struct Svg {
 /// Every chart, in the order of [`CHARTS`] (a chart drawn per slice once per slice), as SVG
 /// text. `options.formats` is not used.
 pub fn svgs(results: &[Results], options: &ChartOptions) -> Result<Vec<Svg>, ChartError> {
+    build(results, options).into_iter().map(to_svg).collect()
+}
+
+/// A latency run's chart as SVG text, for its page.
+pub fn latency_svg(run: &LatencyRun) -> Result<Svg, ChartError> {
+    to_svg(latency_built(run))
+}
+
+fn to_svg(built: Built) -> Result<Svg, ChartError> {
     render::register_font()?;
-    build(results, options)
-        .into_iter()
-        .map(|built| {
-            let drawn = match built.drawn {
-                Ok(chart) => Ok(render::svg(&chart, &built.name)?),
-                Err(why) => Err(why),
-            };
-            Ok(Svg {
-                name: built.name,
-                chart: built.chart,
-                drawn,
-            })
-        })
-        .collect()
+    let drawn = match built.drawn {
+        Ok(chart) => Ok(render::svg(&chart, &built.name)?),
+        Err(why) => Err(why),
+    };
+    Ok(Svg {
+        name: built.name,
+        chart: built.chart,
+        drawn,
+    })
+}
+
+fn latency_built(run: &LatencyRun) -> Built {
+    Built {
+        name: LATENCY_CHART.into(),
+        chart: LATENCY_CHART,
+        drawn: round_trips::round_trips(run),
+    }
 }
 
 /// One chart as data, under the file stem it is written as.
