@@ -32,8 +32,8 @@ pub enum Command {
     Run(RunArgs),
     /// Run a sweep config (default: the built-in Figure 5-1 sweep) and write results files.
     Sweep(SweepArgs),
-    /// Draw the charts (Figure 5-1, relative, sync, frame-times, breakdown, latency-vs-fps) from
-    /// results files.
+    /// Draw the charts (Figure 5-1, relative, sync, frame-times, breakdown, latency-vs-fps,
+    /// balance; round-trips for a latency run) from results files.
     Chart(ChartArgs),
     /// Compare two results files, or the alternatives within one run, with noise-aware verdicts.
     Compare(CompareArgs),

@@ -42,7 +42,8 @@ const FIGURE: &str = "figure-5-1-sync-atomic-threading-pool";
 
 /// The charts a results file from before run-ahead depth and balance searches can draw: Figure
 /// 5-1 and the speed-up once per slice, the fixture's methods with each way of running the
-/// helper (a pool thread, or one spawned per frame).
+/// helper (a pool thread, or one spawned per frame); the charts that lay the methods out once
+/// per way of running the helper.
 fn old_charts() -> Vec<String> {
     let axes = fixture().config.axes;
     let mut charts = vec![];
@@ -53,7 +54,11 @@ fn old_charts() -> Vec<String> {
             }
         }
     }
-    charts.extend(["sync", "frame-times", "breakdown"].map(String::from));
+    for chart in ["sync", "frame-times", "breakdown"] {
+        for threading in &axes.threading {
+            charts.push(format!("{chart}-threading-{threading}"));
+        }
+    }
     charts
 }
 
@@ -110,7 +115,7 @@ fn svgs_name_every_series_and_the_machine() {
             ],
         ),
         (
-            "sync",
+            "sync-threading-pool",
             &[
                 "UP (1 core)",
                 "DP (2 cores)",
@@ -123,7 +128,7 @@ fn svgs_name_every_series_and_the_machine() {
             ],
         ),
         (
-            "frame-times",
+            "frame-times-threading-spawn",
             &[
                 "atomic",
                 "spin",
@@ -136,7 +141,7 @@ fn svgs_name_every_series_and_the_machine() {
             ],
         ),
         (
-            "breakdown",
+            "breakdown-threading-pool",
             &[
                 "workload (main thread)",
                 "waiting for the mesh (main)",
@@ -238,7 +243,7 @@ fn a_chosen_cell_drives_the_single_cell_charts() {
         ],
     };
     let drawn = chart::draw_with(&[fixture()], dir.path(), &options).unwrap();
-    let text = svg_text(&file(&drawn.files, "breakdown.svg"));
+    let text = svg_text(&file(&drawn.files, "breakdown-threading-pool.svg"));
     assert!(text.contains("16×16 mesh, workload 0"), "{text}");
 }
 
@@ -337,7 +342,7 @@ fn the_sync_chart_shows_only_what_the_run_has() {
     for (results, serial) in [(with_serial, true), (no_serial, false)] {
         let dir = tempfile::tempdir().unwrap();
         let files = chart::draw(&[results], dir.path(), &[ChartFormat::Svg]).unwrap();
-        let text = svg_text(&file(&files, "sync.svg"));
+        let text = svg_text(&file(&files, "sync-threading-pool.svg"));
         assert_eq!(text.contains("Dashed line: serial FPS"), serial, "{text}");
         assert_eq!(text.lines().any(|l| l.trim() == "serial"), serial, "{text}");
         assert!(!text.contains("triple-buffer"), "{text}");
@@ -355,7 +360,7 @@ fn the_sync_chart_shows_only_what_the_run_has() {
         ] {
             assert!(text.lines().any(|l| l.trim() == m), "no group {m}");
         }
-        let frames = svg_text(&file(&files, "frame-times.svg"));
+        let frames = svg_text(&file(&files, "frame-times-threading-pool.svg"));
         assert_eq!(frames.lines().any(|l| l.trim() == "serial"), serial);
         assert!(!frames.contains("triple-buffer"), "{frames}");
         assert!(!frames.contains("missing"), "{frames}");
@@ -440,7 +445,7 @@ fn figure_5_1_and_the_speed_up_are_drawn_per_slice_titled_with_every_value() {
             slices: &[
                 (
                     "helpers-1-depth-1-consume-copy",
-                    &["1 helpers", "depth 1", "copy consume"],
+                    &["1 helper,", "depth 1", "copy consume"],
                     "particles",
                 ),
                 (
@@ -527,7 +532,10 @@ fn the_breakdown_says_why_ups_workload_bar_is_longer() {
         &ChartOptions::default(),
     )
     .unwrap();
-    let svg = charts.iter().find(|c| c.name == "breakdown").unwrap();
+    let svg = charts
+        .iter()
+        .find(|c| c.name == "breakdown-workload_kind-fog")
+        .unwrap();
     let text = texts_at(svg.drawn.as_ref().unwrap(), 16.0).join(" ");
     assert!(text.contains("In UP both threads share one core"), "{text}");
     assert!(
@@ -542,8 +550,11 @@ fn the_breakdown_says_why_ups_workload_bar_is_longer() {
 fn the_run_ahead_chart_does_not_name_one_depth() {
     let run = committed("fft-spray-20261125T162607Z");
     let charts = chart::svgs(&[run], &ChartOptions::default()).unwrap();
-    let svg = charts.iter().find(|c| c.name == "latency-vs-fps").unwrap();
-    let text = texts_at(svg.drawn.as_ref().unwrap(), 16.0).join(" ");
+    let svg = charts
+        .iter()
+        .find(|c| c.name == "latency-vs-fps-helpers-2")
+        .unwrap();
+    let text = title(svg.drawn.as_ref().unwrap());
     assert!(
         text.contains("spray workload") && text.contains("fft ocean"),
         "{text}"
@@ -552,4 +563,92 @@ fn the_run_ahead_chart_does_not_name_one_depth() {
         !text.contains("depth 1") && !text.contains("copy consume"),
         "{text}"
     );
+}
+
+/// The charts each slice of a committed run gets beside Figure 5-1 and the speed-up, by file
+/// stem, with the values each title must name; the dimensions a chart lays out itself (the
+/// hand-off method, run-ahead's depth and consumption) split no chart and are named by none.
+struct PerSlice {
+    run: &'static str,
+    charts: &'static [(&'static str, &'static [&'static str])],
+    not_named: &'static [&'static str],
+}
+
+#[test]
+fn every_chart_is_drawn_per_slice_titled_with_every_value() {
+    let defaults = ["fifo policy", "pool helper", "reference kernel"];
+    let cases = [
+        PerSlice {
+            run: "fog-20261125T163342Z",
+            charts: &[
+                (
+                    "frame-times-workload_kind-synthetic",
+                    &["synthetic workload", "regular grid"],
+                ),
+                ("frame-times-workload_kind-fog", &["fog workload"]),
+                ("breakdown-workload_kind-synthetic", &["synthetic workload"]),
+                (
+                    "breakdown-workload_kind-fog",
+                    &["fog workload", "1 helper,"],
+                ),
+            ],
+            not_named: &["atomic hand-off"],
+        },
+        PerSlice {
+            run: "fft-spray-20261125T162607Z",
+            charts: &[
+                (
+                    "frame-times-helpers-1-depth-1-consume-copy",
+                    &["1 helper,", "depth 1", "copy consume", "spray workload"],
+                ),
+                (
+                    "breakdown-helpers-2-depth-2-consume-handle",
+                    &["2 helpers", "depth 2", "handle consume", "fft ocean"],
+                ),
+                ("latency-vs-fps-helpers-1", &["1 helper,", "spray workload"]),
+                ("latency-vs-fps-helpers-2", &["2 helpers", "fft ocean"]),
+            ],
+            not_named: &["atomic hand-off", "copy consume", "depth 1"],
+        },
+        PerSlice {
+            run: "projected-20261125T163816Z",
+            charts: &[
+                ("frame-times-grid-projected", &["projected grid"]),
+                ("breakdown-grid-regular", &["regular grid"]),
+                (
+                    "balance-grid-regular",
+                    &["regular grid", "analytic normals"],
+                ),
+                (
+                    "balance-grid-projected",
+                    &["projected grid", "atomic hand-off"],
+                ),
+            ],
+            not_named: &[],
+        },
+    ];
+    for case in cases {
+        let run = case.run;
+        let charts = chart::svgs(&[committed(run)], &ChartOptions::default()).unwrap();
+        let names: Vec<&str> = charts.iter().map(|c| c.name.as_str()).collect();
+        // No chart is drawn for the run as a whole beside its slices' charts.
+        for chart in ["frame-times", "breakdown"] {
+            assert!(!names.contains(&chart), "{run}: {names:?}");
+        }
+        for (name, values) in case.charts {
+            let svg = charts
+                .iter()
+                .find(|c| c.name == *name)
+                .unwrap_or_else(|| panic!("{run}: no {name} in {names:?}"));
+            let title = title(svg.drawn.as_ref().unwrap());
+            for v in values.iter().chain(&defaults) {
+                assert!(title.contains(v), "{run} {name}: {title:?} lacks {v:?}");
+            }
+            for v in case.not_named.iter().filter(|v| !values.contains(v)) {
+                if !name.starts_with("balance") {
+                    assert!(!title.contains(v), "{run} {name}: {title:?} names {v:?}");
+                }
+            }
+        }
+    }
 }

@@ -7,6 +7,7 @@ mod common;
 
 use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
 use oceanbench::report::chart::{self, ChartFormat};
+use oceanbench::results::latency::LatencyRun;
 use oceanbench::results::Results;
 
 /// Runs whose charts show every kind of chart and text the report draws.
@@ -252,9 +253,14 @@ fn check(results: Results, what: &str) -> Vec<String> {
     let dir = tempfile::tempdir().unwrap();
     let files = chart::draw(&[results], dir.path(), &[ChartFormat::Svg]).unwrap();
     assert!(!files.is_empty(), "{what}: no chart drawn");
+    collisions_in(&files, what)
+}
+
+/// Every collision in the SVG `files`, each named by `what` and the file.
+fn collisions_in(files: &[std::path::PathBuf], what: &str) -> Vec<String> {
     let mut out = vec![];
     for f in files {
-        let svg = std::fs::read_to_string(&f).unwrap();
+        let svg = std::fs::read_to_string(f).unwrap();
         let name = f.file_name().unwrap().to_string_lossy().to_string();
         out.extend(
             collisions(&svg)
@@ -281,6 +287,22 @@ fn assert_clear(collisions: &[String]) {
         collisions.len(),
         collisions.join("\n")
     );
+}
+
+/// The round-trip charts of the committed latency runs: the one with repeats and a machine, and
+/// a bare list of rows from before.
+#[test]
+fn no_text_in_the_latency_charts_overlaps_text_or_a_line() {
+    let mut all = vec![];
+    for run in ["latency-20261127T193624Z", "latency-20261125T085346Z"] {
+        let path = common::root().join("results").join(run);
+        let latency = LatencyRun::load(&path).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let drawn = chart::draw_latency(&latency, dir.path(), &[ChartFormat::Svg]).unwrap();
+        assert_eq!(drawn.files.len(), 1, "{run}: {:?}", drawn.skipped);
+        all.extend(collisions_in(&drawn.files, run));
+    }
+    assert_clear(&all);
 }
 
 #[test]

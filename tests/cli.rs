@@ -698,6 +698,7 @@ fn latency_runs_are_compared_and_reported_like_sweeps() {
     let html = std::fs::read_to_string(&page).unwrap();
     for needle in [
         "id=\"verdict-baseline\"",
+        "id=\"chart-round-trips\"",
         "Round trip per method",
         "atomic",
         "CPU",
@@ -728,7 +729,43 @@ fn latency_runs_are_compared_and_reported_like_sweeps() {
         &["compare", FIXTURE, FIXTURE, "--metric", "round-trip"],
         &["--metric", "latency"],
     );
-    refuses(&["chart", &a], &["latency run", "report"]);
+    refuses(&["chart", &a, FIXTURE], &["latency run", "alone"]);
+    refuses(
+        &["chart", &a, "--sync", "atomic"],
+        &["--sync", "every method"],
+    );
+}
+
+/// `chart` on a latency run draws its round trips, every method on each core pair, into the
+/// run's folder or `--out`, as PNG and SVG.
+#[test]
+fn chart_draws_a_latency_runs_round_trips() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = oceanbench(&[
+        "chart",
+        "results/latency-20261127T193624Z",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_success(&out);
+    for ext in ["png", "svg"] {
+        assert!(
+            dir.path().join(format!("round-trips.{ext}")).exists(),
+            "{ext}"
+        );
+    }
+    let svg = std::fs::read_to_string(dir.path().join("round-trips.svg")).unwrap();
+    for needle in [
+        "median of 5 repeat(s)",
+        "cores 0,0: both threads on one core",
+        "cores 0,1: one core each",
+        "cross-core floor (ping-pong)",
+        "round trip (log scale)",
+        "triple-buffer latest",
+        "µs",
+    ] {
+        assert!(svg.contains(needle), "{needle}");
+    }
 }
 
 #[test]
@@ -805,14 +842,14 @@ fn chart_redraws_from_a_results_file_and_refuses_bad_paths() {
         "svg",
     ]);
     assert_success(&out);
-    // The fixture's slices are its methods and helper threadings: Figure 5-1 and the speed-up
-    // are drawn per slice.
+    // The fixture's slices are its methods and helper threadings: every chart is drawn per
+    // slice, those that lay the methods out per threading.
     for name in [
         "figure-5-1-sync-atomic-threading-pool",
         "relative-sync-condvar-std-threading-spawn",
-        "sync",
-        "frame-times",
-        "breakdown",
+        "sync-threading-pool",
+        "frame-times-threading-spawn",
+        "breakdown-threading-pool",
     ] {
         assert!(dir.path().join(format!("{name}.svg")).exists(), "{name}");
     }

@@ -148,6 +148,7 @@ macro_rules! dimensions {
             row: $row:literal,
             label: $label:literal,
             title: $title:literal
+            $(, title_one: $title_one:literal)?
             $(, quiet: $quiet:expr)?
             $(, check: $check:path)?
             $(,)?
@@ -195,9 +196,17 @@ macro_rules! dimensions {
                 match self { $(Dim::$variant => format!($label, value),)+ }
             }
 
-            /// The value as a table heading names it, e.g. `atomic hand-off`.
+            /// The value as a table heading names it, e.g. `atomic hand-off`, `1 helper`.
             pub fn title(self, value: Value) -> String {
-                match self { $(Dim::$variant => format!($title, value),)+ }
+                match self {
+                    $(Dim::$variant => {
+                        // A count of one takes the singular form, where the noun has one.
+                        $(if value == Value::Count(1) {
+                            return format!($title_one, value);
+                        })?
+                        format!($title, value)
+                    })+
+                }
             }
 
             /// Every value the dimension can take, when they are a fixed set of names.

@@ -134,6 +134,7 @@ dimensions! {
         row: false,
         label: "h{}",
         title: "{} helpers",
+        title_one: "{} helper",
         quiet: 1,
         check: check_helpers,
     }
@@ -496,6 +497,13 @@ mod tests {
         ) -> Result<Box<dyn Stepper>, InputError> {
             Sines.prepare(grid, params, normals, kernel)
         }
+    }
+
+    #[test]
+    fn a_count_of_one_is_titled_in_the_singular() {
+        assert_eq!(Dim::Helpers.title(Value::Count(1)), "1 helper");
+        assert_eq!(Dim::Helpers.title(Value::Count(2)), "2 helpers");
+        assert_eq!(Dim::Depth.title(Value::Count(1)), "depth 1");
     }
 
     #[test]

@@ -1,10 +1,12 @@
 //! `oceanbench chart`: redraw the charts from results files.
 
-use super::{draw_charts, load_results, results_dir, CliError};
+use super::{draw_charts, load_results, report_drawn, results_dir, CliError};
 use crate::cell::Dim;
 use crate::cli::{ChartArgs, DimArgs};
 use crate::config::InputError;
-use crate::report::chart::ChartOptions;
+use crate::report::chart::{self as charts, ChartOptions};
+use crate::results::latency::LatencyRun;
+use std::path::Path;
 
 pub(super) fn chart(args: ChartArgs) -> Result<(), CliError> {
     let mut select = Vec::new();
@@ -27,17 +29,8 @@ pub(super) fn chart(args: ChartArgs) -> Result<(), CliError> {
             }
         }
     }
-    if let Some(run) = args
-        .results
-        .iter()
-        .find(|p| crate::results::latency::LatencyRun::is_latency_run(p))
-    {
-        return Err(InputError(format!(
-            "{}: a latency run has no charts; `oceanbench report {}` shows its round trips and `compare` its changes",
-            run.display(),
-            run.display()
-        ))
-        .into());
+    if let Some(run) = args.results.iter().find(|p| LatencyRun::is_latency_run(p)) {
+        return latency_chart(&args, run, &select);
     }
     let runs = args
         .results
@@ -74,4 +67,31 @@ pub(super) fn chart(args: ChartArgs) -> Result<(), CliError> {
         select,
     };
     draw_charts(&runs, &out, &options)
+}
+
+/// The round-trip chart of latency run `run`, the only results given.
+fn latency_chart(
+    args: &ChartArgs,
+    run: &Path,
+    select: &[(Dim, crate::cell::Value)],
+) -> Result<(), CliError> {
+    if args.results.len() > 1 {
+        return Err(InputError(format!(
+            "{}: a latency run is charted alone; `oceanbench compare BASE NEW` sets two side by side",
+            run.display()
+        ))
+        .into());
+    }
+    if let Some((dim, _)) = select.first() {
+        return Err(InputError(format!(
+            "--{}: a latency run's chart shows every method on every core pair; it has no cells to choose",
+            DimArgs::flag(*dim)
+        ))
+        .into());
+    }
+    let latency = LatencyRun::load(run).map_err(|e| InputError(e.to_string()))?;
+    let out = args.out.clone().unwrap_or_else(|| results_dir(run));
+    let drawn = charts::draw_latency(&latency, &out, &args.format).map_err(anyhow::Error::from)?;
+    report_drawn(&drawn);
+    Ok(())
 }

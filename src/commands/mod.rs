@@ -165,13 +165,18 @@ fn lock_cores(cores: &[usize], wait: &WaitArgs) -> Result<Vec<Lock>, CliError> {
 /// Draws every chart and prints where they went and which were skipped.
 fn draw_charts(runs: &[Results], out: &Path, options: &ChartOptions) -> Result<(), CliError> {
     let drawn = charts::draw_with(runs, out, options).map_err(anyhow::Error::from)?;
+    report_drawn(&drawn);
+    Ok(())
+}
+
+/// Says which chart files were written, and why any chart was not.
+fn report_drawn(drawn: &charts::Drawn) {
     for file in &drawn.files {
         println!("chart: {}", file.display());
     }
     for s in &drawn.skipped {
         eprintln!("oceanbench: chart {} skipped: {}", s.chart, s.reason);
     }
-    Ok(())
 }
 
 /// The main and helper cores a command measures on: the ones given, or the first two allowed

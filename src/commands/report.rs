@@ -95,7 +95,8 @@ fn latency_report(args: &ReportArgs) -> Result<(), CliError> {
         .out
         .clone()
         .unwrap_or_else(|| default_path(&results_dir(&args.results)));
-    let page = html::latency_page(&run, &args.results.display().to_string(), baseline.as_ref());
+    let page = html::latency_page(&run, &args.results.display().to_string(), baseline.as_ref())
+        .map_err(anyhow::Error::from)?;
     json::write_atomic(&out, page.as_bytes())
         .map_err(|e| anyhow::anyhow!("writing {}: {e}", out.display()))?;
     println!("report: {}", out.display());

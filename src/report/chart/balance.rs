@@ -4,7 +4,7 @@
 
 use super::bars::shade;
 use super::render::{Body, Chart, Frame, Legend, Trace, TracePanel, TracePlot};
-use super::{NothingToDraw, Runs, CHART_SIZE};
+use super::{held, NothingToDraw, Runs, Variant, CHART_SIZE};
 use crate::cell::Dim;
 use crate::stats;
 use plotters::style::RGBColor;
@@ -19,16 +19,29 @@ fn cell_color(i: usize) -> RGBColor {
     shade(super::PALETTE[CELLS[i % CELLS.len()]], i / CELLS.len())
 }
 
-/// The speed-up curve of every searched cell, one panel per size.
-pub(super) fn balance(runs: &Runs) -> Result<Chart, NothingToDraw> {
+/// The speed-up curve of every searched cell in the slice (every one without a slice), one
+/// panel per size.
+pub(super) fn balance(runs: &Runs, v: Option<&Variant>) -> Result<Chart, NothingToDraw> {
     let entries: Vec<_> = runs
         .runs
         .iter()
         .flat_map(|r| r.results.balance.iter().map(move |e| (r, e)))
+        .filter(|(_, e)| v.is_none_or(|v| v.contains(&e.key)))
         .collect();
     if entries.is_empty() {
-        return Err(NothingToDraw::new("no balance search in the results"));
+        return Err(NothingToDraw(match v {
+            Some(v) if runs.runs.iter().any(|r| !r.results.balance.is_empty()) => {
+                format!("no balance search with {}", v.describe(&[]))
+            }
+            _ => "no balance search in the results".into(),
+        }));
     }
+    // The title names what every searched cell holds; the legend tells the cells apart.
+    let keys: Vec<_> = entries.iter().map(|(_, e)| &e.key).collect();
+    let title = format!(
+        "Where the two threads balance: DP speed-up against main-thread work; {}",
+        held(&keys, &[])
+    );
     let mut sizes: Vec<usize> = entries.iter().map(|(_, e)| e.key.size).collect();
     sizes.sort_unstable();
     sizes.dedup();
@@ -127,7 +140,7 @@ pub(super) fn balance(runs: &Runs) -> Result<Chart, NothingToDraw> {
     legend.push(Legend::line("workload levels w1-w3", LEVEL));
     Ok(Chart {
         frame: Frame {
-            title: "Where the two threads balance: DP speed-up against main-thread work".into(),
+            title,
             lines,
             legend,
             notes: Vec::new(),

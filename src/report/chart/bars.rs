@@ -242,10 +242,10 @@ pub(super) fn relative(runs: &Runs, v: &Variant) -> Result<Chart, NothingToDraw>
     )
 }
 
-/// Each hand-off method's FPS in UP and DP, one panel per size at the highest workload.
-pub(super) fn sync(runs: &Runs) -> Result<Chart, NothingToDraw> {
-    let v = runs.variant()?;
-    let syncs = runs.syncs(&v);
+/// Each hand-off method's FPS in UP and DP in one slice, one panel per size at the highest
+/// workload.
+pub(super) fn sync(runs: &Runs, v: &Variant) -> Result<Chart, NothingToDraw> {
+    let syncs = runs.syncs(v);
     if syncs.len() < 2 {
         return Err(NothingToDraw(format!(
             "the run measured one hand-off method ({})",

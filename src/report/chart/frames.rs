@@ -2,7 +2,7 @@
 
 use super::bars::shade;
 use super::render::{Body, Chart, Frame, Legend, LinePanel, LinePlot, Series, StackPlot, StackRow};
-use super::{mode_name, short_mode, sync_color, Missing, NothingToDraw, Runs, CHART_SIZE};
+use super::{mode_name, short_mode, sync_color, Missing, NothingToDraw, Runs, Variant, CHART_SIZE};
 use crate::cell::{Dim, Mode};
 use crate::summary::{Summary, QUANTILES};
 use crate::sync::SyncMethod;
@@ -42,14 +42,19 @@ fn focus_text(size: usize, workload: usize) -> String {
     format!("{size}×{size} mesh, workload {workload}")
 }
 
-/// Frame-time points per hand-off method, one panel per threaded mode, serial in each.
-pub(super) fn frame_times(
-    runs: &Runs,
-    focus: Option<(usize, usize)>,
-) -> Result<Chart, NothingToDraw> {
-    let (size, workload) = focus.ok_or(NothingToDraw::new("no measured cell in the results"))?;
-    let v = runs.variant()?;
-    let syncs = runs.syncs(&v);
+/// Why a single-cell chart has no cell in the slice.
+fn no_focus(v: &Variant) -> NothingToDraw {
+    NothingToDraw(format!(
+        "no measured cell with {}",
+        v.describe(&[Dim::Sync])
+    ))
+}
+
+/// Frame-time points per hand-off method in one slice, one panel per threaded mode, serial in
+/// each.
+pub(super) fn frame_times(runs: &Runs, v: &Variant) -> Result<Chart, NothingToDraw> {
+    let (size, workload) = runs.focus(v).ok_or_else(|| no_focus(v))?;
+    let syncs = runs.syncs(v);
     let mut missing = Missing::default();
     // The legend names only the series some panel draws.
     let mut legend: Vec<Legend> = vec![];
@@ -124,12 +129,12 @@ pub(super) fn frame_times(
          median, p99, mean of the slowest 1% (from the 1% low) and max; the mean stands apart."
             .into()
     });
-    lines.push(format!("{}.", v.describe(&[Dim::Sync])));
     Ok(Chart {
         frame: Frame {
             title: format!(
-                "Frame-time distribution by hand-off method, {}",
-                focus_text(size, workload)
+                "Frame-time distribution by hand-off method, {}; {}",
+                focus_text(size, workload),
+                v.describe(&[Dim::Sync])
             ),
             lines,
             legend,
@@ -156,18 +161,15 @@ pub(super) fn frame_times(
     })
 }
 
-/// The mean frame split into workload, wait, copy and the mesh step, one row per mode and method.
-pub(super) fn breakdown(
-    runs: &Runs,
-    focus: Option<(usize, usize)>,
-) -> Result<Chart, NothingToDraw> {
+/// The mean frame in one slice split into workload, wait, copy and the mesh step, one row per
+/// mode and method.
+pub(super) fn breakdown(runs: &Runs, v: &Variant) -> Result<Chart, NothingToDraw> {
     const WORKLOAD: usize = 0;
     const WAIT: usize = 1;
     const COPY: usize = 2;
     const STEP: usize = 3;
-    let (size, workload) = focus.ok_or(NothingToDraw::new("no measured cell in the results"))?;
-    let v = runs.variant()?;
-    let syncs = runs.syncs(&v);
+    let (size, workload) = runs.focus(v).ok_or_else(|| no_focus(v))?;
+    let syncs = runs.syncs(v);
     let modes = runs.modes();
     let mut missing = Missing::default();
     let mut rows = vec![];
@@ -241,11 +243,11 @@ pub(super) fn breakdown(
         Legend::boxed("mean frame time (tick)", RGBColor(0, 0, 0)),
     ];
     let mut lines = runs.machine_lines();
-    lines.push(format!(
+    lines.push(
         "Mean per frame. The upper bar is the main thread's frame; in UP and DP the lower bar is \
-         the helper's step, which overlaps it. {}.",
-        v.describe(&[Dim::Sync])
-    ));
+         the helper's step, which overlaps it."
+            .into(),
+    );
     if let Some(up) = up_workload {
         let alone = serial_workload.map_or(String::new(), |serial| {
             format!(
@@ -262,7 +264,11 @@ pub(super) fn breakdown(
     let height = CHART_SIZE.1.max(300 + 44 * rows.len() as u32);
     Ok(Chart {
         frame: Frame {
-            title: format!("Where a frame's time goes, {}", focus_text(size, workload)),
+            title: format!(
+                "Where a frame's time goes, {}; {}",
+                focus_text(size, workload),
+                v.describe(&[Dim::Sync])
+            ),
             lines,
             legend,
             notes: missing.notes(),

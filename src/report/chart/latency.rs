@@ -3,25 +3,27 @@
 
 use super::bars::shade;
 use super::render::{Body, Chart, Frame, Legend, Trace, TracePanel, TracePlot};
-use super::{mode_name, sync_color, Missing, NothingToDraw, Runs, CHART_SIZE};
+use super::{mode_name, sync_color, Missing, NothingToDraw, Runs, Variant, CHART_SIZE};
 use crate::cell::{Consume, Dim, Mode};
 use strum::VariantArray;
 
-/// FPS against input-to-consume latency at the focus workload: UP panels in the top row, DP
-/// in the bottom one, a column per size. A method keeps its colour from the other charts, and
-/// its consumptions are shades of it, so one legend entry names the same series in every panel.
-pub(super) fn latency_vs_fps(
-    runs: &Runs,
-    focus: Option<(usize, usize)>,
-) -> Result<Chart, NothingToDraw> {
-    let (_, workload) = focus.ok_or(NothingToDraw::new("no measured cell in the results"))?;
-    let v = runs.variant()?;
-    let depths = runs.counts(crate::cell::Dim::Depth);
+/// The dimensions the run-ahead chart lays out besides size, workload and mode.
+pub(super) const LAID_OUT: [Dim; 3] = [Dim::Sync, Dim::Depth, Dim::Consume];
+
+/// FPS against input-to-consume latency in one slice at its focus workload: UP panels in the
+/// top row, DP in the bottom one, a column per size. A method keeps its colour from the other
+/// charts, and its consumptions are shades of it, so one legend entry names the same series in
+/// every panel.
+pub(super) fn latency_vs_fps(runs: &Runs, v: &Variant) -> Result<Chart, NothingToDraw> {
+    let depths = runs.counts(Dim::Depth);
     if depths.len() < 2 {
         return Err(NothingToDraw::new(
             "the run measured one run-ahead depth: no latency traded for FPS to show",
         ));
     }
+    let (_, workload) = runs
+        .focus(v)
+        .ok_or_else(|| NothingToDraw(format!("no measured cell with {}", v.describe(&LAID_OUT))))?;
     let mut missing = Missing::default();
     let mut legend: Vec<Legend> = Vec::new();
     let mut panels = Vec::new();
@@ -30,7 +32,7 @@ pub(super) fn latency_vs_fps(
         for size in runs.sizes() {
             let mut traces = Vec::new();
             for (r, run) in runs.runs.iter().enumerate() {
-                for sync in runs.syncs(&v) {
+                for sync in runs.syncs(v) {
                     for (c, &consume) in Consume::VARIANTS.iter().enumerate() {
                         let points: Vec<(f64, f64, String)> = depths
                             .iter()
@@ -84,17 +86,20 @@ pub(super) fn latency_vs_fps(
         .filter(|m| panels.iter().any(|p| p.caption.starts_with(mode_name(**m))))
         .count();
     let mut lines = runs.machine_lines();
-    lines.push(format!(
-        "Each line joins one method and consumption over run-ahead depths d1, d2, ...: up is more FPS, right is older meshes (input-to-consume: the helper starts a mesh → the main thread takes it); a label hidden by another names the same depth. {}.",
-        v.describe(&[Dim::Sync, Dim::Depth, Dim::Consume])
-    ));
+    lines.push(
+        "Each line joins one method and consumption over run-ahead depths d1, d2, ...: up is more FPS, right is older meshes (input-to-consume: the helper starts a mesh → the main thread takes it); a label hidden by another names the same depth."
+            .into(),
+    );
     let mut size = CHART_SIZE;
     if rows > 1 {
         size.1 = CHART_SIZE.1 * 3 / 2;
     }
     Ok(Chart {
         frame: Frame {
-            title: "Run-ahead: frames per second against input-to-consume latency".into(),
+            title: format!(
+                "Run-ahead: frames per second against input-to-consume latency; {}",
+                v.describe(&LAID_OUT)
+            ),
             lines,
             legend,
             notes: missing.notes(),

@@ -11,9 +11,11 @@ mod glyphs;
 pub mod history;
 mod latency;
 mod render;
+mod round_trips;
 
 use crate::cell::Mode;
 use crate::cell::{Axes, Dim, DimValue, Value};
+use crate::results::latency::LatencyRun;
 use crate::results::{Cell, CellKey, Results};
 use crate::summary::Summary;
 use crate::sync::SyncMethod;
@@ -68,6 +70,9 @@ pub const CHARTS: [&str; 7] = [
     "balance",
 ];
 
+/// The chart of a latency run, by the file stem it is written under.
+pub const LATENCY_CHART: &str = "round-trips";
+
 /// Chart width and height in pixels (the breakdown grows taller when it has many rows).
 pub const CHART_SIZE: (u32, u32) = (1600, 900);
 
@@ -77,8 +82,8 @@ pub struct ChartOptions {
     /// Formats to write every chart in.
     pub formats: Vec<ChartFormat>,
     /// Values to hold dimensions at. Size and workload choose the single-cell charts' cell
-    /// (default: the largest size, at its highest workload); any other dimension is held at
-    /// the value given instead of the first measured. The charts lay out the modes themselves.
+    /// (default: each slice's largest measured size, at its highest workload); any other
+    /// dimension is held at the value given, leaving only the slices that hold it.
     pub select: Vec<(Dim, Value)>,
 }
 
@@ -139,16 +144,34 @@ pub fn draw_with(
     out_dir: &Path,
     options: &ChartOptions,
 ) -> Result<Drawn, ChartError> {
+    write_all(build(results, options), out_dir, &options.formats)
+}
+
+/// Draws a latency run's chart into `out_dir` in each format.
+pub fn draw_latency(
+    run: &LatencyRun,
+    out_dir: &Path,
+    formats: &[ChartFormat],
+) -> Result<Drawn, ChartError> {
+    write_all(vec![latency_built(run)], out_dir, formats)
+}
+
+/// Writes each drawn chart in each format, and lists the ones with nothing to draw.
+fn write_all(
+    built: Vec<Built>,
+    out_dir: &Path,
+    formats: &[ChartFormat],
+) -> Result<Drawn, ChartError> {
     render::register_font()?;
     std::fs::create_dir_all(out_dir).map_err(|source| ChartError::Dir {
         path: out_dir.to_path_buf(),
         source,
     })?;
     let mut drawn = Drawn::default();
-    for built in build(results, options) {
+    for built in built {
         match built.drawn {
             Ok(chart) => {
-                for &format in &options.formats {
+                for &format in formats {
                     let path = out_dir.join(format!("{}.{}", built.name, format.name()));
                     render::write(&chart, &path, format)?;
                     drawn.files.push(path);
@@ -167,7 +190,7 @@ pub fn draw_with(
 pub struct Svg {
     /// Its file stem: one of [`CHARTS`], with its slice for a chart drawn per slice.
     pub name: String,
-    /// Which of [`CHARTS`] it is.
+    /// Which of [`CHARTS`] (or [`LATENCY_CHART`]) it is.
     pub chart: &'static str,
     /// The SVG text, or why it has nothing to draw.
     pub drawn: Result<String, NothingToDraw>,
@@ -176,21 +199,33 @@ pub struct Svg {
 /// Every chart, in the order of [`CHARTS`] (a chart drawn per slice once per slice), as SVG
 /// text. `options.formats` is not used.
 pub fn svgs(results: &[Results], options: &ChartOptions) -> Result<Vec<Svg>, ChartError> {
+    build(results, options).into_iter().map(to_svg).collect()
+}
+
+/// A latency run's chart as SVG text, for its page.
+pub fn latency_svg(run: &LatencyRun) -> Result<Svg, ChartError> {
+    to_svg(latency_built(run))
+}
+
+fn to_svg(built: Built) -> Result<Svg, ChartError> {
     render::register_font()?;
-    build(results, options)
-        .into_iter()
-        .map(|built| {
-            let drawn = match built.drawn {
-                Ok(chart) => Ok(render::svg(&chart, &built.name)?),
-                Err(why) => Err(why),
-            };
-            Ok(Svg {
-                name: built.name,
-                chart: built.chart,
-                drawn,
-            })
-        })
-        .collect()
+    let drawn = match built.drawn {
+        Ok(chart) => Ok(render::svg(&chart, &built.name)?),
+        Err(why) => Err(why),
+    };
+    Ok(Svg {
+        name: built.name,
+        chart: built.chart,
+        drawn,
+    })
+}
+
+fn latency_built(run: &LatencyRun) -> Built {
+    Built {
+        name: LATENCY_CHART.into(),
+        chart: LATENCY_CHART,
+        drawn: round_trips::round_trips(run),
+    }
 }
 
 /// One chart as data, under the file stem it is written as.
@@ -200,49 +235,75 @@ struct Built {
     drawn: Result<render::Chart, NothingToDraw>,
 }
 
-/// Every chart as data, in the order of [`CHARTS`]; Figure 5-1 and the speed-up once per slice.
+/// What a chart draws of one slice.
+type DrawSlice = fn(&Runs, &Variant) -> Result<render::Chart, NothingToDraw>;
+
+/// Every chart as data, in the order of [`CHARTS`], each once per slice of the dimensions it
+/// does not lay out itself.
 fn build(results: &[Results], options: &ChartOptions) -> Vec<Built> {
     let runs = Runs::new(results, &options.select);
-    let selected = |dim| {
-        options
-            .select
-            .iter()
-            .find(|(d, _)| *d == dim)
-            .and_then(|&(_, v)| usize::from_value(v))
+    let one = |chart: &'static str, drawn| {
+        vec![Built {
+            name: chart.to_string(),
+            chart,
+            drawn,
+        }]
     };
-    let focus = runs.focus(selected(Dim::Size), selected(Dim::Workload));
-    let one = |chart: &'static str, drawn| Built {
-        name: chart.to_string(),
-        chart,
-        drawn,
-    };
-    let per_slice =
-        |chart: &'static str, draw: fn(&Runs, &Variant) -> Result<render::Chart, NothingToDraw>| {
-            match runs.slices.as_slice() {
-                [] => vec![one(
+    // Each of `slices` under its own file stem, unless the run has one slice (`several` false).
+    let sliced = |chart: &'static str, slices: &[Variant], several: bool, draw: DrawSlice| {
+        let built: Vec<Built> = match slices {
+            [] => return one(chart, Err(NothingToDraw::new("no cells in the results"))),
+            [only] if !several => return one(chart, draw(&runs, only)),
+            slices => slices
+                .iter()
+                .map(|v| Built {
+                    name: format!("{chart}-{}", v.slug()),
                     chart,
-                    Err(NothingToDraw::new("no cells in the results")),
-                )],
-                [only] => vec![one(chart, draw(&runs, only))],
-                slices => slices
-                    .iter()
-                    .map(|v| Built {
-                        name: format!("{chart}-{}", v.slug()),
-                        chart,
-                        drawn: draw(&runs, v),
-                    })
-                    .collect(),
-            }
+                    drawn: draw(&runs, v),
+                })
+                .collect(),
         };
-    let mut out = per_slice(CHARTS[0], bars::figure_5_1);
-    out.extend(per_slice(CHARTS[1], bars::relative));
-    out.extend([
-        one(CHARTS[2], bars::sync(&runs)),
-        one(CHARTS[3], frames::frame_times(&runs, focus)),
-        one(CHARTS[4], frames::breakdown(&runs, focus)),
-        one(CHARTS[5], latency::latency_vs_fps(&runs, focus)),
-        one(CHARTS[6], balance::balance(&runs)),
-    ]);
+        // A chart whose dimension the whole run does not vary is skipped once, not per slice.
+        match built.first().map(|b| &b.drawn) {
+            Some(Err(why)) if built.iter().all(|b| b.drawn.as_ref().err() == Some(why)) => {
+                one(chart, Err(why.clone()))
+            }
+            _ => built,
+        }
+    };
+    let per_slice = |chart: &'static str, laid_out: &[Dim], draw: DrawSlice| {
+        let slices = runs.slices(laid_out);
+        sliced(chart, &slices, slices.len() > 1, draw)
+    };
+    let mut out = per_slice(CHARTS[0], &[], bars::figure_5_1);
+    out.extend(per_slice(CHARTS[1], &[], bars::relative));
+    out.extend(per_slice(CHARTS[2], &[Dim::Sync], bars::sync));
+    out.extend(per_slice(CHARTS[3], &[Dim::Sync], frames::frame_times));
+    out.extend(per_slice(CHARTS[4], &[Dim::Sync], frames::breakdown));
+    out.extend(per_slice(
+        CHARTS[5],
+        &latency::LAID_OUT,
+        latency::latency_vs_fps,
+    ));
+    // Only the slices a search was run in get a balance chart; a run without cells to slice
+    // (balance searches alone) or without a search gets one chart, or one reason.
+    let slices = runs.slices(&[]);
+    let searched: Vec<Variant> = slices
+        .iter()
+        .filter(|v| {
+            runs.runs
+                .iter()
+                .any(|r| r.results.balance.iter().any(|e| v.contains(&e.key)))
+        })
+        .cloned()
+        .collect();
+    if searched.is_empty() {
+        out.extend(one(CHARTS[6], balance::balance(&runs, None)));
+    } else {
+        out.extend(sliced(CHARTS[6], &searched, slices.len() > 1, |runs, v| {
+            balance::balance(runs, Some(v))
+        }));
+    }
     out
 }
 
@@ -290,11 +351,8 @@ impl Run<'_> {
 /// The results being charted, with what they have in common.
 struct Runs<'a> {
     runs: Vec<Run<'a>>,
-    /// The cells the charts draw; `None` when there are no cells.
-    variant: Option<Variant>,
-    /// The cells of each slice ([`crate::findings::Slice`]) the selection leaves, in the order
-    /// the cells show them: Figure 5-1 and the speed-up are drawn once per slice.
-    slices: Vec<Variant>,
+    /// The values the user held dimensions at.
+    select: Vec<(Dim, Value)>,
 }
 
 /// The cells a chart draws: every dimension but the ones the chart lays out (size, workload,
@@ -342,12 +400,29 @@ impl Variant {
     /// the chart lays out besides size, workload and mode (`also`): a reader must be able to
     /// tell two slices' charts apart by their titles.
     fn describe(&self, also: &[Dim]) -> String {
-        Dim::ALL
-            .iter()
-            .filter(|&&d| !LAID_OUT.contains(&d) && !also.contains(&d))
-            .filter_map(|&d| Some(d.title(self.template.get(d)?)))
-            .join(", ")
+        held(&[&self.template], also)
     }
+
+    /// Whether `key` lies in the slice (a serial cell lacks the hand-off dimensions, and lies in
+    /// every slice its other values match).
+    fn contains(&self, key: &CellKey) -> bool {
+        self.slice
+            .iter()
+            .all(|&(d, v)| key.get(d).is_none_or(|k| k == v))
+    }
+}
+
+/// The values all of `keys` share, as [`Variant::describe`] names them, leaving out the
+/// dimensions every chart lays out and `also`.
+fn held(keys: &[&CellKey], also: &[Dim]) -> String {
+    Dim::ALL
+        .iter()
+        .filter(|&&d| !LAID_OUT.contains(&d) && !also.contains(&d))
+        .filter_map(|&d| {
+            let v = keys.first()?.get(d)?;
+            keys.iter().all(|k| k.get(d) == Some(v)).then(|| d.title(v))
+        })
+        .join(", ")
 }
 
 /// Cells a chart wanted and did not find, to say so under the chart.
@@ -439,25 +514,14 @@ impl<'a> Runs<'a> {
                     .collect()
             }
         };
-        let mut runs = Runs {
+        Runs {
             runs: labels
                 .into_iter()
                 .zip(results)
                 .map(|(label, results)| Run { label, results })
                 .collect(),
-            variant: None,
-            slices: Vec::new(),
-        };
-        runs.variant = runs.choose_variant(select);
-        runs.slices = runs.slice_variants(select);
-        runs
-    }
-
-    /// The cells the charts draw, or why there are none.
-    fn variant(&self) -> Result<Variant, NothingToDraw> {
-        self.variant
-            .clone()
-            .ok_or(NothingToDraw::new("no cells in the results"))
+            select: select.to_vec(),
+        }
     }
 
     fn multi(&self) -> bool {
@@ -599,13 +663,16 @@ impl<'a> Runs<'a> {
         })
     }
 
-    /// A variant per slice: the findings' slice dimensions of every run, each combination of
-    /// their values that a threaded cell (in a serial-only run, any cell) has, in cell order,
-    /// without those the selection rules out.
-    fn slice_variants(&self, select: &[(Dim, Value)]) -> Vec<Variant> {
+    /// A variant per slice ([`crate::findings::Slice`]) of a chart that lays out `laid_out`
+    /// itself: the findings' slice dimensions of every run but those, each combination of their
+    /// values that a threaded cell (in a serial-only run, any cell) has, in cell order, without
+    /// those the selection rules out.
+    fn slices(&self, laid_out: &[Dim]) -> Vec<Variant> {
+        let select = self.select.as_slice();
         let dims: Vec<Dim> = Dim::ALL
             .iter()
             .copied()
+            .filter(|d| !laid_out.contains(d))
             .filter(|d| {
                 self.runs
                     .iter()
@@ -638,14 +705,21 @@ impl<'a> Runs<'a> {
             .collect()
     }
 
-    /// The cell of the single-cell charts: the largest size with a measured cell, at its highest
-    /// measured workload, unless asked otherwise.
-    fn focus(&self, size: Option<usize>, workload: Option<usize>) -> Option<(usize, usize)> {
+    /// The cell of the single-cell charts in the slice: the largest size with a measured cell
+    /// there, at its highest measured workload, unless the selection names them.
+    fn focus(&self, v: &Variant) -> Option<(usize, usize)> {
+        let selected = |dim| {
+            self.select
+                .iter()
+                .find(|(d, _)| *d == dim)
+                .and_then(|&(_, v)| usize::from_value(v))
+        };
+        let (size, workload) = (selected(Dim::Size), selected(Dim::Workload));
         let measured = || {
             self.runs
                 .iter()
                 .flat_map(|r| &r.results.cells)
-                .filter(|c| c.summary.is_some())
+                .filter(|c| c.summary.is_some() && v.contains(&c.key))
                 .map(|c| &c.key)
         };
         let size = size.or_else(|| measured().map(|k| k.size).max())?;

@@ -169,11 +169,37 @@ pub(super) struct TracePlot {
 /// What a chart draws below its frame.
 pub(super) enum Body {
     Bars(BarPlot),
+    Ranges(RangePlot),
     Lines(LinePlot),
     Stacks(StackPlot),
     Traces(TracePlot),
     /// Bar plots stacked in rows, each with its own axes.
     BarRows(Vec<BarPlot>),
+}
+
+/// One row's value in a range panel: a dot, and a whisker over its range.
+pub(super) struct RangePoint {
+    pub row: usize,
+    pub value: f64,
+    pub range: (f64, f64),
+    pub color: RGBColor,
+}
+
+/// A panel of [`RangePlot`]: its points and its dashed vertical reference lines.
+pub(super) struct RangePanel {
+    pub caption: String,
+    pub points: Vec<RangePoint>,
+    pub refs: Vec<RefLine>,
+}
+
+/// Named rows, top to bottom, each a dot with a whisker and its value beside it, in panels side
+/// by side on one x axis: logarithmic, or linear from 0.
+pub(super) struct RangePlot {
+    pub panels: Vec<RangePanel>,
+    pub rows: Vec<String>,
+    pub x_desc: String,
+    pub log_x: bool,
+    pub format: fn(f64) -> String,
 }
 
 /// A whole chart, ready to draw in any format.
@@ -229,6 +255,7 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, chart: &Chart) -> Res
     let body = frame(root, &chart.frame)?;
     match &chart.body {
         Body::Bars(p) => bars(&body, p)?,
+        Body::Ranges(p) => ranges(&body, p)?,
         Body::Lines(p) => lines(&body, p)?,
         Body::Stacks(p) => stacks(&body, p)?,
         Body::Traces(p) => traces(&body, p)?,
@@ -921,6 +948,145 @@ fn stacks<DB: DrawingBackend>(
             .map_err(err)?;
     }
     Ok(())
+}
+
+fn ranges<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    plot: &RangePlot,
+) -> Result<(), DrawError> {
+    let values = || {
+        plot.panels.iter().flat_map(|p| {
+            p.points
+                .iter()
+                .flat_map(|q| [q.value, q.range.0, q.range.1])
+                .chain(p.refs.iter().map(|r| r.value))
+        })
+    };
+    let lo = values().filter(|v| *v > 0.0).fold(f64::INFINITY, f64::min);
+    let hi = values().fold(0.0, f64::max);
+    let n = plot.rows.len().max(1);
+    // Rows run top to bottom in the order given, so row i sits at y = n - 1 - i.
+    let labels: Vec<String> = plot.rows.iter().rev().cloned().collect();
+    let longest = labels
+        .iter()
+        .map(|l| area.estimate_text_size(l, &font(15.0)).map(|s| s.0))
+        .try_fold(0, |a, s| s.map(|s| a.max(s)))
+        .map_err(err)?;
+    let y = || categories(-0.6..n as f64 - 0.4, n);
+    let areas = area.split_evenly((1, plot.panels.len().max(1)));
+    for (panel, area) in plot.panels.iter().zip(&areas) {
+        let builder = || {
+            let mut b = ChartBuilder::on(area);
+            b.caption(&panel.caption, font(19.0))
+                .margin(10)
+                .x_label_area_size(58)
+                .y_label_area_size(longest + 24);
+            b
+        };
+        if plot.log_x && lo.is_finite() {
+            // Room on the right for the highest value's label; whole decades when there are
+            // enough of them to read the axis by, so that the tick labels keep apart.
+            let (x_lo, x_hi) = (lo / 1.6, hi * 5.0);
+            let decades: Vec<f64> = (x_lo.log10().ceil() as i32..=x_hi.log10().floor() as i32)
+                .map(|e| 10f64.powi(e))
+                .collect();
+            let ticks = if decades.len() >= LOG_X_TICKS {
+                decades
+            } else {
+                log_ticks(x_lo, x_hi, LOG_X_TICKS)
+            };
+            let chart = builder()
+                .build_cartesian_2d((x_lo..x_hi).log_scale().with_key_points(ticks), y())
+                .map_err(err)?;
+            range_panel(area, chart, plot, panel, &labels)?;
+        } else {
+            let chart = builder()
+                .build_cartesian_2d(0.0..hi.max(1e-9) * 1.35, y())
+                .map_err(err)?;
+            range_panel(area, chart, plot, panel, &labels)?;
+        }
+    }
+    Ok(())
+}
+
+fn range_panel<DB: DrawingBackend, X>(
+    area: &DrawingArea<DB, Shift>,
+    mut chart: ChartContext<'_, DB, Cartesian2d<X, Categories>>,
+    plot: &RangePlot,
+    panel: &RangePanel,
+    labels: &[String],
+) -> Result<(), DrawError>
+where
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let n = plot.rows.len().max(1);
+    let x_fmt = |v: &f64| (plot.format)(*v);
+    let y_fmt = |v: &f64| label_at(labels, *v);
+    draw_axes(
+        chart.configure_mesh().disable_y_mesh(),
+        &plot.x_desc,
+        None,
+        &x_fmt,
+        &y_fmt,
+    )?;
+    for r in &panel.refs {
+        chart
+            .draw_series(DashedLineSeries::new(
+                [(r.value, -0.6), (r.value, n as f64 - 0.4)],
+                10,
+                6,
+                r.color.stroke_width(2),
+            ))
+            .map_err(err)?;
+    }
+    let right = chart.backend_coord(&(chart.x_range().end, 0.0)).0;
+    let style = font(13.0);
+    let mut values = Vec::new();
+    for p in &panel.points {
+        let y = (n - 1 - p.row) as f64;
+        let style = BLACK.stroke_width(2);
+        let (lo, hi) = p.range;
+        for line in [
+            vec![(lo, y), (hi, y)],
+            vec![(lo, y - 0.2), (lo, y + 0.2)],
+            vec![(hi, y - 0.2), (hi, y + 0.2)],
+        ] {
+            chart
+                .draw_series(std::iter::once(PathElement::new(line, style)))
+                .map_err(err)?;
+        }
+        chart
+            .draw_series(std::iter::once(Circle::new(
+                (p.value, y),
+                6,
+                p.color.filled(),
+            )))
+            .map_err(err)?;
+        values.push(((plot.format)(p.value), (lo, hi, y)));
+    }
+    // Each value right of its whisker, or left of it where the panel ends first.
+    for (text, (lo, hi, y)) in values {
+        let (w, _) = area.estimate_text_size(&text, &style).map_err(err)?;
+        let (px, py) = chart.backend_coord(&(hi, y));
+        let (at, h) = if px + 10 + w as i32 <= right {
+            ((px + 10, py), HPos::Left)
+        } else {
+            ((chart.backend_coord(&(lo, y)).0 - 10, py), HPos::Right)
+        };
+        label(area, &text, &style.pos(Pos::new(h, VPos::Center)), at)?;
+    }
+    Ok(())
+}
+
+/// Nanoseconds in the unit that reads best: ns, µs or ms.
+pub(super) fn ns(v: f64) -> String {
+    if v >= 1e6 {
+        format!("{} ms", short(v / 1e6))
+    } else if v >= 1e3 {
+        format!("{} µs", short(v / 1e3))
+    } else {
+        format!("{} ns", short(v))
+    }
 }
 
 /// Milliseconds with as many decimals as their size needs.

@@ -1,14 +1,22 @@
 //! The page of a latency run: the verdict against a baseline when there is one, every method's
 //! round trip over its repeats next to the floor on the same cores, and what it ran on.
 
-use super::{command_line, comparison, document, machine_facts, or_missing, table, Baseline};
+use super::{
+    command_line, comparison, document, figure, machine_facts, or_missing, table, Baseline,
+};
+use crate::report::chart::{self, ChartError};
 use crate::report::markdown::Table;
 use crate::results::latency::{LatencyRun, FLOOR};
 use crate::stats;
 use maud::html;
 
 /// The page of latency run `run`; `source` names it as the user gave it.
-pub fn latency_page(run: &LatencyRun, source: &str, baseline: Option<&Baseline>) -> String {
+pub fn latency_page(
+    run: &LatencyRun,
+    source: &str,
+    baseline: Option<&Baseline>,
+) -> Result<String, ChartError> {
+    let chart = chart::latency_svg(run)?;
     let title = "oceanbench: hand-off round trips";
     let body = html! {
         h1 { (title) }
@@ -40,6 +48,7 @@ pub fn latency_page(run: &LatencyRun, source: &str, baseline: Option<&Baseline>)
             " · " a href="#what-ran" { "What was run" }
         }
         h2 id="round-trips" { "Round trips" }
+        (figure(&chart))
         (table(&round_trip_table(run)))
         @if let Some(b) = baseline { (comparison(b)) }
         h2 id="what-ran" { "What was run" }
@@ -56,7 +65,7 @@ pub fn latency_page(run: &LatencyRun, source: &str, baseline: Option<&Baseline>)
             "Written by oceanbench " (env!("CARGO_PKG_VERSION")) " from the latency run alone."
         }
     };
-    document(title, body)
+    Ok(document(title, body))
 }
 
 /// The floor between the two cores, the line a reader checks the placement by.

@@ -40,14 +40,7 @@ pub fn page(
     // A chart drawn per slice appears once per slice, each under its own file stem.
     let chart = |chart: &str| -> Markup {
         html! {
-            @for svg in charts.iter().filter(|s| s.chart == chart) {
-                @match &svg.drawn {
-                    Ok(text) => figure id={ "chart-" (svg.name) } { (PreEscaped(text.as_str())) },
-                    Err(NothingToDraw(why)) => p.note id={ "chart-" (svg.name) } {
-                        "Chart " code { (svg.name) } " not drawn: " (why)
-                    },
-                }
-            }
+            @for svg in charts.iter().filter(|s| s.chart == chart) { (figure(svg)) }
         }
     };
     let title = format!("oceanbench: {}", results.config.name);
@@ -119,6 +112,18 @@ pub fn page(
         }
     };
     Ok(document(&title, body))
+}
+
+/// A chart inline, under an id of its file stem; or why it was not drawn.
+fn figure(svg: &chart::Svg) -> Markup {
+    html! {
+        @match &svg.drawn {
+            Ok(text) => figure id={ "chart-" (svg.name) } { (PreEscaped(text.as_str())) },
+            Err(NothingToDraw(why)) => p.note id={ "chart-" (svg.name) } {
+                "Chart " code { (svg.name) } " not drawn: " (why)
+            },
+        }
+    }
 }
 
 /// A whole page: its title, the style sheet inline and `body`.
