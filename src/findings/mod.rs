@@ -288,7 +288,7 @@ fn level(results: &Results, cell: &Cell) -> String {
     let amount = cell
         .key
         .workload_kind
-        .amount_text(amount, cell.workload_unit());
+        .amount_text(&amount.to_string(), cell.workload_unit());
     format!("workload {w} ({amount})")
 }
 

@@ -256,7 +256,7 @@ fn missed_levels(results: &Results) -> Option<String> {
             cal.level_micros,
             c.key
                 .workload_kind
-                .amount_text(c.workload_amount(), c.workload_unit())
+                .amount_text(&c.workload_amount().to_string(), c.workload_unit())
         );
         if !rows.contains(&row) {
             rows.push(row);

@@ -63,9 +63,10 @@ impl WorkloadKind {
         self.kind().map_or("", |k| k.unit())
     }
 
-    /// `amount` of its work as sentences and ticks name it (`19³ voxels`); a kind this program
-    /// does not register reads `{amount} {unit}` with the unit its results recorded.
-    pub fn amount_text(self, amount: u64, recorded_unit: &str) -> String {
+    /// `amount` of its work as sentences, ticks and axes name it (`19³ voxels`, `N³ voxels`); a
+    /// kind this program does not register reads `{amount} {unit}` with the unit its results
+    /// recorded.
+    pub fn amount_text(self, amount: &str, recorded_unit: &str) -> String {
         self.kind().map_or_else(
             |_| format!("{amount} {recorded_unit}"),
             |k| k.amount_text(amount),
@@ -110,8 +111,8 @@ pub trait Kind: Send + Sync + 'static {
     /// The unit a level is counted in.
     fn unit(&self) -> &'static str;
 
-    /// `amount` in words, for findings and chart ticks.
-    fn amount_text(&self, amount: u64) -> String {
+    /// `amount` (a number, or `N` for an axis) in words, for findings and charts.
+    fn amount_text(&self, amount: &str) -> String {
         format!("{amount} {}", self.unit())
     }
 
@@ -246,7 +247,7 @@ pub trait DynKind: Send + Sync {
     /// See [`Kind::unit`].
     fn unit(&self) -> &'static str;
     /// See [`Kind::amount_text`].
-    fn amount_text(&self, amount: u64) -> String;
+    fn amount_text(&self, amount: &str) -> String;
     /// Its default config object, `None` for a kind without parameters.
     fn default_params(&self) -> Option<serde_json::Value>;
     /// Parses and checks its config object (the defaults when `raw` is `None`).
@@ -282,7 +283,7 @@ impl<K: Kind> DynKind for K {
         Kind::unit(self)
     }
 
-    fn amount_text(&self, amount: u64) -> String {
+    fn amount_text(&self, amount: &str) -> String {
         Kind::amount_text(self, amount)
     }
 

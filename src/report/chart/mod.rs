@@ -19,7 +19,7 @@ use crate::results::latency::LatencyRun;
 use crate::results::{Cell, CellKey, Results};
 use crate::summary::Summary;
 use crate::sync::SyncMethod;
-use crate::workload::{Fog, Synthetic, WorkloadKind};
+use crate::workload::{Synthetic, WorkloadKind};
 use itertools::Itertools;
 use plotters::style::RGBColor;
 use std::path::{Path, PathBuf};
@@ -757,16 +757,16 @@ impl<'a> Runs<'a> {
             Synthetic::UNIT if kind == WorkloadKind::SYNTHETIC => {
                 "workload level (synthetic main-thread work, µs per frame)".into()
             }
-            Fog::UNIT => format!(
-                "workload level ({}: a volume of edge N, N³ voxels per frame)",
-                kind.name()
+            _ => format!(
+                "workload level ({}: {} per frame)",
+                kind.name(),
+                kind.amount_text("N", unit)
             ),
-            _ => format!("workload level ({}: {unit} per frame)", kind.name()),
         }
     }
 
     /// A workload level's tick: its index, then what it amounted to at `size` in the slice (µs
-    /// for the synthetic chain, N³ for a fog volume, else the amount in the kind's unit).
+    /// for the synthetic chain, else the amount as its kind words it: `19³ voxels`).
     fn level_tick(&self, v: &Variant, size: usize, workload: usize) -> String {
         let head = format!("workload {workload}");
         let Some(cell) = self.level_cell(v, size, workload) else {
@@ -794,8 +794,7 @@ impl<'a> Runs<'a> {
                     None => amount.to_string(),
                 }
             }
-            Fog::UNIT => format!("{amount}³"),
-            _ => amount.to_string(),
+            unit => (cell.key.workload_kind).amount_text(&amount.to_string(), unit),
         };
         format!("{head}\n{tail}")
     }

@@ -255,7 +255,7 @@ impl Kind for FogKind {
         Fog::UNIT
     }
 
-    fn amount_text(&self, amount: u64) -> String {
+    fn amount_text(&self, amount: &str) -> String {
         format!("{amount}³ voxels")
     }
 
