@@ -4,7 +4,7 @@
 //! found in a cell's line is drawn where it lies, between two runs, with its size.
 
 use super::bars::shade;
-use super::render::{self, Body, Chart, Frame, Legend, LinePanel, LinePlot, Marker, Series};
+use super::render::{Body, Chart, Frame, Legend, LinePanel, LinePlot, Marker, Series};
 use super::{ChartError, ChartFormat, NothingToDraw, CHART_SIZE, PALETTE};
 use crate::changepoint::{self, ChangePoint};
 use crate::report::compare::Metric;
@@ -183,11 +183,7 @@ pub fn write(
     dir: &Path,
     formats: &[ChartFormat],
 ) -> Result<Vec<Result<Vec<PathBuf>, NothingToDraw>>, ChartError> {
-    render::register_font()?;
-    std::fs::create_dir_all(dir).map_err(|source| ChartError::Dir {
-        path: dir.to_path_buf(),
-        source,
-    })?;
+    super::prepare(dir)?;
     let mut out = Vec::new();
     for &metric in metrics {
         let chart = match chart(runs, metric, keys) {
@@ -197,13 +193,8 @@ pub fn write(
                 continue;
             }
         };
-        let mut files = Vec::new();
-        for &format in formats {
-            let path = dir.join(format!("history-{}.{}", metric.name(), format.name()));
-            render::write(&chart, &path, format)?;
-            files.push(path);
-        }
-        out.push(Ok(files));
+        let stem = format!("history-{}", metric.name());
+        out.push(Ok(super::write_formats(&chart, dir, &stem, formats)?));
     }
     Ok(out)
 }
