@@ -276,3 +276,47 @@ pub fn config_hash(results: &Results) -> String {
 pub fn sidecar(path: &Path) -> PathBuf {
     path.with_extension("provenance.json")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cell_line_names_its_placement_round_trips_and_set_aside_trials() {
+        let trial = |ns: [f64; 2]| TrialFacts {
+            class: Some(Class::Near),
+            round_trip_ns: Some(ns),
+        };
+        let cell = CellFacts {
+            name: "size=16, mode=dp".into(),
+            placement: "near".into(),
+            trials: vec![trial([41.0, 52.0]), trial([64.0, 45.0])],
+            set_aside: 1,
+        };
+        assert_eq!(
+            cell.line(),
+            "placement of size=16, mode=dp: near, round trips 41-64 ns over 2 trial(s), 1 set aside"
+        );
+    }
+
+    #[test]
+    fn a_trial_that_moved_is_mixed_and_one_without_round_trips_unplaced() {
+        let mut results: Results = serde_json::from_str(include_str!(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/fixtures/quick-results.json"
+        )))
+        .unwrap();
+        // Two clusters, near and far; a trial whose round trips straddle them moved.
+        results.round_trip.before = None;
+        results.round_trip.during.clear();
+        results.round_trip.after = None;
+        results.cells.clear();
+        results.balance.clear();
+        let near_far = Provenance::of_trial(&results, "c".into(), Some([50.0, 400.0]));
+        assert_eq!(near_far.placement.cells[0].placement, "mixed");
+        assert!(near_far.placement.split.as_ref().is_some_and(Split::two));
+        let none = Provenance::of_trial(&results, "c".into(), None);
+        assert_eq!(none.placement.cells[0].placement, "unplaced");
+        assert_eq!(none.placement.split, None);
+    }
+}
