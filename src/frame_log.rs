@@ -4,15 +4,20 @@
 //! line per measured frame. Only the frame times are measured here, so the sensor columns hold 0
 //! (docs/exports.md lists which).
 //!
+//! MangoHud's line 2 holds the machine but has no field for the commit, the config or the
+//! placement, and its readers compare line 1 whole, so those travel in a `*.provenance.json`
+//! beside each log (docs/exports.md).
+//!
 //! One file per cell, holding its last kept trial: a cell's trials are interleaved with the
 //! other cells' of its row, so only one trial is a continuous stretch of time, as a MangoHud
 //! capture is.
 
+use crate::findings::provenance::{self, CellFacts, Provenance};
 use crate::input::InputError;
 use crate::machine::{self, Machine};
 use crate::measure::Trial;
 use crate::report::json::write_atomic;
-use crate::results::{Cell, CellKey};
+use crate::results::{Cell, CellKey, Results};
 use crate::sweep::Observer;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -148,11 +153,12 @@ pub fn file_name(key: &CellKey) -> String {
     format!("{label}.csv")
 }
 
-/// Writes each measured cell's log into a folder as the sweep finishes the cell.
+/// Writes each measured cell's log into a folder as the sweep finishes the cell, and its
+/// provenance beside it after every row.
 pub struct FrameLogger {
     dir: PathBuf,
     system: SystemLine,
-    written: Vec<PathBuf>,
+    written: Vec<(PathBuf, CellKey)>,
     error: Option<String>,
 }
 
@@ -174,6 +180,7 @@ impl FrameLogger {
         if let Some(taken) = keys
             .iter()
             .map(|k| dir.join(file_name(k)))
+            .flat_map(|p| [provenance::sidecar(&p), p])
             .find(|p| p.exists())
         {
             return Err(InputError(format!(
@@ -193,8 +200,13 @@ impl FrameLogger {
     pub fn finish(self) -> Result<Vec<PathBuf>, String> {
         match self.error {
             Some(e) => Err(e),
-            None => Ok(self.written),
+            None => Ok(self.written.into_iter().map(|(path, _)| path).collect()),
         }
+    }
+
+    fn fail(&mut self, path: &Path, e: std::io::Error) {
+        self.error
+            .get_or_insert_with(|| format!("{}: {e}", path.display()));
     }
 }
 
@@ -203,11 +215,28 @@ impl Observer for FrameLogger {
         let frames: Vec<u64> = last_trial.frames.iter().map(|f| f.total_ns).collect();
         let path = self.dir.join(file_name(&cell.key));
         match write_atomic(&path, to_csv(&self.system, &frames).as_bytes()) {
-            Ok(()) => self.written.push(path),
-            Err(e) => {
-                self.error
-                    .get_or_insert_with(|| format!("{}: {e}", path.display()));
+            Ok(()) => self.written.push((path, cell.key.clone())),
+            Err(e) => self.fail(&path, e),
+        }
+    }
+
+    // Rewritten after every row, not once: a trial's placement is a class against all the
+    // run's round trips, so the last row's write holds the placement results.json ends with.
+    fn row_finished(&mut self, results: &Results) {
+        let mut failed = Vec::new();
+        for (path, key) in &self.written {
+            let Some(cell) = results.cell(key) else {
+                continue;
+            };
+            let record = Provenance::of(results, vec![CellFacts::of(key.label(), cell)]);
+            let sidecar = provenance::sidecar(path);
+            let json = serde_json::to_vec_pretty(&record).map_err(std::io::Error::other);
+            if let Err(e) = json.and_then(|j| write_atomic(&sidecar, &j)) {
+                failed.push((sidecar, e));
             }
+        }
+        for (path, e) in failed {
+            self.fail(&path, e);
         }
     }
 }

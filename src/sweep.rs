@@ -8,6 +8,7 @@ use crate::cell::{Dim, Value};
 use crate::config::{self, InputError, SweepConfig};
 use crate::crosscore;
 use crate::findings::placement::{label, round_trips};
+use crate::findings::provenance::Provenance;
 use crate::frame_loop::{self, Budget, LoopError, LoopSpec, Mode, Threading};
 use crate::machine::Machine;
 use crate::measure::Trial;
@@ -461,7 +462,12 @@ impl Sweep {
             let around = before.zip(self.trial_round_trip());
             if let (Some(plan), Ok(lr)) = (trace, &outcome) {
                 if let Some(timeline) = &lr.timeline {
-                    if let Err(e) = plan.write(&run.key, run.spec.consume, timeline) {
+                    let provenance = Provenance::of_trial(
+                        &self.results,
+                        run.key.label(),
+                        around.map(|(a, b)| [a, b]),
+                    );
+                    if let Err(e) = plan.write(&run.key, run.spec.consume, timeline, &provenance) {
                         eprintln!(
                             "oceanbench: --trace: {}: {e}",
                             plan.path_for(&run.key).display()

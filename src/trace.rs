@@ -142,18 +142,25 @@ impl TracePlan {
         }
     }
 
-    /// Writes cell `key`'s trace (consumed as `consume`) to its file, making the folder if
+    /// Writes cell `key`'s trace (consumed as `consume`) to its file with the run's
+    /// `provenance` (a [`crate::findings::provenance::Provenance`], taken as any serializable value so
+    /// this module, which the sweep imports, stays below the results), making the folder if
     /// needed.
     pub fn write(
         &self,
         key: &CellKey,
         consume: Consume,
         timeline: &Timeline,
+        provenance: &impl serde::Serialize,
     ) -> std::io::Result<()> {
         if let Target::Dir(dir) = &self.target {
             std::fs::create_dir_all(dir)?;
         }
-        let json = chrome_trace(&key.label(), consume, timeline);
+        let mut json = chrome_trace(&key.label(), consume, timeline);
+        // `otherData` is the format's own place for free-form metadata; viewers show it as the
+        // trace's info and ignore its shape.
+        json["otherData"]["provenance"] =
+            serde_json::to_value(provenance).map_err(std::io::Error::other)?;
         let bytes = serde_json::to_vec(&json).map_err(std::io::Error::other)?;
         // Written beside and renamed, so an interrupted run leaves no half trace (report's
         // write_atomic would lift this module, which the sweep imports, above the reports).

@@ -3,7 +3,9 @@
 
 mod common;
 
-use common::{assert_success, oceanbench, refuses, root};
+use common::{
+    assert_cell_provenance, assert_run_provenance, assert_success, oceanbench, refuses, root,
+};
 use oceanbench::results::Results;
 use serde_json::Value;
 
@@ -171,6 +173,100 @@ fn github_action_benchmark_lists_fps_with_string_range_and_extra() {
     }
 }
 
+/// `OLD_RUN` as `export` reads it: its trials placed against its round trips.
+fn labelled_old_run() -> Results {
+    let mut results = Results::load(&root().join(OLD_RUN)).unwrap();
+    oceanbench::findings::placement::label(&mut results);
+    results
+}
+
+#[test]
+fn every_export_file_has_its_provenance_beside_it() {
+    let results = labelled_old_run();
+    let dir = tempfile::tempdir().unwrap();
+    for format in ["bmf", "github-action-benchmark"] {
+        let file = dir.path().join(format!("{format}.json"));
+        let out = oceanbench(&[
+            "export",
+            OLD_RUN,
+            "--format",
+            format,
+            "--out",
+            file.to_str().unwrap(),
+        ]);
+        assert_success(&out);
+        let sidecar = dir.path().join(format!("{format}.provenance.json"));
+        let record: Value = serde_json::from_str(&std::fs::read_to_string(&sidecar).unwrap())
+            .unwrap_or_else(|e| panic!("{}: {e}", sidecar.display()));
+        let p = assert_run_provenance(&record, &results);
+        // One entry per exported benchmark, under the name the export gives it.
+        let names: Vec<String> = match format {
+            "bmf" => export(OLD_RUN, "bmf")
+                .as_object()
+                .unwrap()
+                .keys()
+                .cloned()
+                .collect(),
+            _ => export(OLD_RUN, format)
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|b| b["name"].as_str().unwrap().to_string())
+                .collect(),
+        };
+        let cells: Vec<&str> = p.placement.cells.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(cells, names);
+        let measured = results.cells.iter().filter(|c| c.summary.is_some());
+        for (facts, cell) in p.placement.cells.iter().zip(measured) {
+            assert_cell_provenance(facts, cell);
+        }
+    }
+}
+
+#[test]
+fn bmf_to_standard_output_stays_pure_and_names_its_provenance_on_stderr() {
+    let results = labelled_old_run();
+    let out = oceanbench(&["export", OLD_RUN, "--format", "bmf"]);
+    assert_success(&out);
+    let bmf: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(bmf
+        .as_object()
+        .unwrap()
+        .values()
+        .all(|m| m.get("fps").is_some()));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let line = stderr
+        .lines()
+        .find_map(|l| l.split_once("provenance").map(|_| l))
+        .unwrap_or_else(|| panic!("no provenance on stderr: {stderr}"));
+    let record: Value = serde_json::from_str(&line[line.find('{').unwrap()..]).unwrap();
+    assert_run_provenance(&record, &results);
+}
+
+#[test]
+fn github_action_benchmark_extra_carries_machine_commit_config_and_placement() {
+    let results = labelled_old_run();
+    let hash = oceanbench::findings::provenance::config_hash(&results);
+    for bench in export(OLD_RUN, "github-action-benchmark")
+        .as_array()
+        .unwrap()
+    {
+        let extra = bench["extra"].as_str().unwrap();
+        let name = bench["name"].as_str().unwrap();
+        for needle in [
+            results.machine.line(),
+            results.machine.provenance_line(),
+            format!("config {} (hash {hash})", results.config.name),
+            format!("placement of {name}: "),
+        ] {
+            assert!(extra.contains(&needle), "{needle} not in {extra}");
+        }
+        if let Some(split) = &results.placement {
+            assert!(extra.contains(&split.describe()), "{extra}");
+        }
+    }
+}
+
 #[test]
 fn an_export_to_a_file_matches_standard_output() {
     let dir = tempfile::tempdir().unwrap();
@@ -222,5 +318,9 @@ fn bad_exports_exit_2_with_one_line_and_write_nothing() {
         &["--out", "no folder"],
     );
     assert_eq!(std::fs::read_to_string(&kept).unwrap(), "earlier");
-    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        1,
+        "no export and no provenance beside it"
+    );
 }

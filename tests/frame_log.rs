@@ -3,7 +3,11 @@
 
 mod common;
 
-use common::{assert_input_error, assert_success, oceanbench_locked};
+use common::{
+    assert_cell_provenance, assert_input_error, assert_run_provenance, assert_success,
+    oceanbench_locked,
+};
+use oceanbench::findings::provenance;
 use oceanbench::frame_log;
 use oceanbench::results::Results;
 use std::path::Path;
@@ -69,6 +73,22 @@ fn a_run_logs_its_last_trial_frame_by_frame_in_mangohud_columns() {
     let path = logs.join(frame_log::file_name(&cell.key));
     assert!(String::from_utf8_lossy(&run.stdout).contains(&path.display().to_string()));
     let log = read_log(&path);
+
+    // What line 2 has no field for is beside the log: machine, commit, config, placement.
+    let sidecar = provenance::sidecar(&path);
+    assert_eq!(
+        sidecar.file_name().unwrap().to_str().unwrap(),
+        frame_log::file_name(&cell.key).replace(".csv", ".provenance.json")
+    );
+    let record = serde_json::from_str(&std::fs::read_to_string(&sidecar).unwrap()).unwrap();
+    let p = assert_run_provenance(&record, &results);
+    assert_eq!(p.placement.cells.len(), 1);
+    assert_eq!(p.placement.cells[0].name, cell.key.label());
+    assert_cell_provenance(&p.placement.cells[0], cell);
+    assert_eq!(
+        p.config.command, results.command,
+        "the command line, recorded before the run"
+    );
 
     assert_eq!(log.system[0], results.machine.os);
     assert_eq!(log.system[4], results.machine.kernel);
@@ -141,10 +161,19 @@ fn a_sweep_logs_every_cell_and_refuses_a_folder_holding_their_logs() {
     let results = Results::load(&dir.path().join("first")).unwrap();
     assert_eq!(results.cells.len(), 2);
     for cell in &results.cells {
-        let log = read_log(&logs.join(frame_log::file_name(&cell.key)));
+        let path = logs.join(frame_log::file_name(&cell.key));
+        let log = read_log(&path);
         assert_eq!(log.rows.len(), 25);
+        // The last row's rewrite: the placement results.json ends with.
+        let sidecar = std::fs::read_to_string(provenance::sidecar(&path)).unwrap();
+        let p = assert_run_provenance(&serde_json::from_str(&sidecar).unwrap(), &results);
+        assert_cell_provenance(&p.placement.cells[0], cell);
     }
-    assert_eq!(std::fs::read_dir(&logs).unwrap().count(), 2);
+    assert_eq!(
+        std::fs::read_dir(&logs).unwrap().count(),
+        4,
+        "a log and its provenance per cell"
+    );
 
     // Again into the same folder: refused before anything runs, the logs kept.
     let kept = logs.join(frame_log::file_name(&results.cells[0].key));

@@ -149,6 +149,56 @@ fn a_ten_percent_regression_at_run_6_is_found_there_and_fails() {
         Some(1),
         "the newest run follows a regression"
     );
+    // The chart marks it: its size as the marker's label, and the change named in a note.
+    let percent = changes[0]
+        .rsplit_once(": ")
+        .and_then(|(_, rest)| rest.split_once(' '))
+        .unwrap()
+        .0;
+    assert!(
+        percent.starts_with("-1") || percent.starts_with("-9"),
+        "{percent}"
+    );
+    let svg = std::fs::read_to_string(dir.path().join("charts/history-fps.svg")).unwrap();
+    let texts = svg_texts(&svg);
+    let x_of = |pred: &dyn Fn(&str) -> bool| {
+        texts
+            .iter()
+            .find(|(_, t)| pred(t))
+            .map(|(x, _)| *x)
+            .unwrap_or_else(|| panic!("no such text in {texts:?}"))
+    };
+    let marker = x_of(&|t| t == percent);
+    let (run5, run6) = (
+        x_of(&|t| t.starts_with("5 ")),
+        x_of(&|t| t.starts_with("6 ")),
+    );
+    assert!(
+        (marker - (run5 + run6) / 2.0).abs() <= 2.0,
+        "the marker sits between runs 5 and 6: {run5} {marker} {run6}"
+    );
+    assert!(
+        texts.iter().any(|(_, t)| t == changes[0]),
+        "the change named in a note"
+    );
+    // A dashed line runs down the chart where the marker is.
+    let dashes = svg
+        .lines()
+        .filter(|l| l.starts_with("<polyline") && l.contains(&format!("points=\"{marker},")))
+        .count();
+    assert!(dashes >= 10, "{dashes} dashes at x = {marker}");
+}
+
+/// Each `<text>` of an SVG plotters wrote: its x and its content.
+fn svg_texts(svg: &str) -> Vec<(f64, String)> {
+    svg.split("<text ")
+        .skip(1)
+        .filter_map(|t| {
+            let x = t.strip_prefix("x=\"")?.split('"').next()?.parse().ok()?;
+            let body = t.split_once('>')?.1.split_once("</text>")?.0;
+            Some((x, body.trim().replace("&apos;", "'")))
+        })
+        .collect()
 }
 
 #[test]
@@ -168,6 +218,13 @@ fn unchanged_runs_give_at_most_one_false_change_in_five_series() {
             Some(if regression { 1 } else { 0 }),
             "{stdout}"
         );
+        // The chart notes (and marks) exactly the changes reported.
+        let svg = std::fs::read_to_string(dir.path().join("charts/history-fps.svg")).unwrap();
+        let noted = svg_texts(&svg)
+            .iter()
+            .filter(|(_, t)| t.starts_with("change: "))
+            .count();
+        assert_eq!(noted, changes, "{stdout}");
         found += changes;
     }
     assert!(found <= 1, "{found} false changes");

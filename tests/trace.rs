@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{assert_input_error, assert_success, oceanbench_locked};
+use common::{assert_input_error, assert_run_provenance, assert_success, oceanbench_locked};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -187,7 +187,20 @@ fn frames_hold_their_parts(slices: &BTreeMap<u64, Vec<&Value>>, parts: &[&str]) 
 #[test]
 fn a_dp_trace_names_its_threads_nests_its_slices_and_binds_every_flow() {
     let dir = tempfile::tempdir().unwrap();
-    let trace = traced_run(dir.path(), &["--mode", "dp"]);
+    let out = dir.path().join("run");
+    let trace = traced_run(
+        dir.path(),
+        &["--mode", "dp", "--out", out.to_str().unwrap()],
+    );
+    // The run's provenance rides in otherData; the traced trial is placed by its own round trips.
+    let results = oceanbench::results::Results::load(&out).unwrap();
+    let p = assert_run_provenance(&trace["otherData"]["provenance"], &results);
+    assert_eq!(p.config.command, results.command);
+    let [traced] = p.placement.cells.as_slice() else {
+        panic!("one traced cell: {:?}", p.placement.cells)
+    };
+    assert_eq!(traced.name, results.cells[0].key.label());
+    assert!(traced.trials[0].round_trip_ns.is_some(), "{traced:?}");
     let names = threads(&trace);
     assert_eq!(names[&1], "main");
     assert_eq!(names[&2], "helper 0");

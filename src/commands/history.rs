@@ -3,13 +3,11 @@
 
 use super::sweep::config_differences;
 use super::{load_results, CliError};
-use crate::changepoint;
 use crate::cli::{DimArgs, HistoryArgs};
 use crate::config::InputError;
 use crate::report::chart::history;
 use crate::report::compare::Metric;
 use crate::results::{CellKey, Results};
-use crate::stats;
 
 pub(super) fn history(args: HistoryArgs) -> Result<(), CliError> {
     if args.runs.len() < 2 {
@@ -105,30 +103,16 @@ fn report_changes(runs: &[Results], metrics: &[Metric], keys: &[CellKey]) -> boo
     let mut regressed = false;
     for &metric in metrics {
         for key in keys {
-            // The runs that measured the cell, by their index among all runs.
-            let (at, values): (Vec<usize>, Vec<f64>) = history::series(runs, key, metric)
-                .into_iter()
-                .enumerate()
-                .filter_map(|(i, v)| v.map(|v| (i, v)))
-                .unzip();
-            let label = key.label();
-            let changes = changepoint::detect(&values, stats::seed_from(&label));
+            let changes = history::changes(runs, key, metric);
             for c in &changes {
-                let worse = (c.after < c.before) == metric.higher_is_better();
-                println!(
-                    "change: {label}, {} from run {}: {:+.1}% ({})",
-                    metric.unit(),
-                    at[c.at] + 1,
-                    c.percent(),
-                    if worse { "regression" } else { "improvement" }
-                );
+                println!("change: {}", c.line(&key.label(), metric));
             }
-            // The newest run is in the last segment, begun by the last change.
-            let newest_measured = at.last() == Some(&(runs.len() - 1));
-            if let Some(last) = changes.last() {
-                regressed |=
-                    newest_measured && (last.after < last.before) == metric.higher_is_better();
-            }
+            // The newest run is in the last segment, begun by the last change; a cell the
+            // newest run did not measure says nothing of it.
+            let newest_measured = history::series(runs, key, metric)
+                .last()
+                .is_some_and(Option::is_some);
+            regressed |= newest_measured && changes.last().is_some_and(|c| c.regression);
         }
     }
     regressed

@@ -131,11 +131,12 @@ pub(super) fn run(args: RunArgs) -> Result<(), CliError> {
     if let Some(plan) = trace {
         sweep = sweep.tracing(plan);
     }
-    let mut results = match &mut frame_log {
+    // Recorded before the run, so the frame logs' and traces' provenance carries it too.
+    sweep.results.command = Some(command_line());
+    let results = match &mut frame_log {
         Some(logger) => sweep.run(logger),
         None => sweep.run(&mut ()),
     };
-    results.command = Some(command_line());
     if let Some(dir) = &args.out {
         report::write_all(dir, &results).map_err(anyhow::Error::from)?;
     }

@@ -60,6 +60,9 @@ impl Observer for Writer<'_> {
         if let Err(e) = report::write_all(self.dir, results) {
             self.error.get_or_insert(e);
         }
+        if let Some(logger) = &mut self.frame_log {
+            logger.row_finished(results);
+        }
     }
 }
 

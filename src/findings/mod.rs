@@ -10,6 +10,7 @@
 //! records (files from before schema 3), since then no slow trial could be attributed.
 
 pub mod placement;
+pub mod provenance;
 
 use crate::cell::Mode;
 use crate::cell::{Dim, DimValue, Value};

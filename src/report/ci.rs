@@ -5,6 +5,7 @@
 //! metric, bounded by the slowest and fastest trial.
 
 use crate::cell::Dim;
+use crate::findings::provenance::{CellFacts, Provenance};
 use crate::results::{Cell, Results};
 use crate::summary::Summary;
 use serde::Serialize;
@@ -97,16 +98,29 @@ pub struct ActionBenchmark {
     pub value: f64,
     /// The slowest and fastest trial, as text.
     pub range: String,
-    /// The trials, the machine and the commit, one per line (the chart's tooltip).
+    /// The trials, then the provenance one fact per line: machine, commit, config, the run's
+    /// placement and the cell's (the chart's tooltip).
     pub extra: String,
+}
+
+/// The provenance of an export of `results`: every measured cell under its export name.
+pub fn provenance(results: &Results) -> Provenance {
+    let cells = results
+        .cells
+        .iter()
+        .filter(|c| c.summary.is_some())
+        .map(|c| CellFacts::of(name(results, c), c))
+        .collect();
+    Provenance::of(results, cells)
 }
 
 /// github-action-benchmark's `customBiggerIsBetter` list: FPS per cell, bigger is better.
 pub fn github_action_benchmark(results: &Results) -> Vec<ActionBenchmark> {
-    let machine = results.machine.line();
-    let commit = results.machine.provenance_line();
+    let provenance = provenance(results);
+    let run = provenance.run_lines().join("\n");
     measured(results)
-        .map(|(name, s)| {
+        .zip(&provenance.placement.cells)
+        .map(|((name, s), cell)| {
             let (lower, upper) = bounds(s);
             ActionBenchmark {
                 name,
@@ -114,10 +128,10 @@ pub fn github_action_benchmark(results: &Results) -> Vec<ActionBenchmark> {
                 value: s.fps,
                 range: format!("trials {lower:.2} to {upper:.2}"),
                 extra: format!(
-                    "{} trial(s), {} frames\n{machine}\n{commit}\nstarted {}",
+                    "{} trial(s), {} frames\n{run}\n{}",
                     s.fps_trials.len(),
                     s.frames,
-                    results.started
+                    cell.line()
                 ),
             }
         })

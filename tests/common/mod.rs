@@ -190,3 +190,59 @@ pub fn config_with(
     }
     oceanbench::config::SweepConfig::from_json(&value.to_string())
 }
+
+/// An export's provenance record (a sidecar, or a trace's `otherData.provenance`), checked
+/// against the run it came from: every field present (the parse has no defaults), the machine,
+/// the commit and its dirty flag, the config's name and hash, and the run's placement split when
+/// the run crossed two cores. The record, for the caller's checks of its cells.
+pub fn assert_run_provenance(
+    record: &serde_json::Value,
+    results: &Results,
+) -> oceanbench::findings::provenance::Provenance {
+    let p: oceanbench::findings::provenance::Provenance = serde_json::from_value(record.clone())
+        .unwrap_or_else(|e| panic!("a provenance record lacks a field: {e}\n{record:#}"));
+    let m = &results.machine;
+    assert_eq!(p.machine.cpu, m.cpu_model);
+    assert_eq!(p.machine.logical_cores, m.logical_cores);
+    assert_eq!(p.machine.line, m.line());
+    assert_eq!(p.commit.id, m.git_commit);
+    assert_eq!(p.commit.dirty, m.git_dirty);
+    assert_eq!(p.commit.line, m.provenance_line());
+    assert_eq!(p.config.name, results.config.name);
+    assert_eq!(
+        p.config.hash,
+        oceanbench::findings::provenance::config_hash(results),
+        "the hash of the config results.json records"
+    );
+    assert_eq!(p.started, results.started);
+    if results.round_trip.before.is_some() {
+        assert!(p.placement.split.is_some() && p.placement.summary.is_some());
+    }
+    p
+}
+
+/// A provenance record's cell against the results' cell: its placement word and each kept
+/// trial's class and round trips.
+pub fn assert_cell_provenance(
+    facts: &oceanbench::findings::provenance::CellFacts,
+    cell: &oceanbench::results::Cell,
+) {
+    let trials: Vec<_> = cell
+        .trials
+        .iter()
+        .map(|t| (t.placement, t.round_trip_ns))
+        .collect();
+    let recorded: Vec<_> = facts
+        .trials
+        .iter()
+        .map(|t| (t.class, t.round_trip_ns))
+        .collect();
+    assert_eq!(recorded, trials, "{}", facts.name);
+    assert_eq!(facts.set_aside, cell.set_aside.len());
+    let words = ["near", "far", "one", "mixed", "unplaced"];
+    assert!(
+        words.contains(&facts.placement.as_str()),
+        "{}",
+        facts.placement
+    );
+}

@@ -150,6 +150,7 @@ pub(super) fn frame_times(runs: &Runs, v: &Variant) -> Result<Chart, NothingToDr
                     .to_vec()
             },
             first_apart: !all_have_quantiles,
+            markers: Vec::new(),
             x_desc: if all_have_quantiles {
                 "quantile of the measured frames".into()
             } else {

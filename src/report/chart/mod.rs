@@ -162,20 +162,13 @@ fn write_all(
     out_dir: &Path,
     formats: &[ChartFormat],
 ) -> Result<Drawn, ChartError> {
-    render::register_font()?;
-    std::fs::create_dir_all(out_dir).map_err(|source| ChartError::Dir {
-        path: out_dir.to_path_buf(),
-        source,
-    })?;
+    prepare(out_dir)?;
     let mut drawn = Drawn::default();
     for built in built {
         match built.drawn {
             Ok(chart) => {
-                for &format in formats {
-                    let path = out_dir.join(format!("{}.{}", built.name, format.name()));
-                    render::write(&chart, &path, format)?;
-                    drawn.files.push(path);
-                }
+                let files = write_formats(&chart, out_dir, &built.name, formats)?;
+                drawn.files.extend(files);
             }
             Err(NothingToDraw(reason)) => drawn.skipped.push(Skipped {
                 chart: built.name,
@@ -194,6 +187,31 @@ pub struct Svg {
     pub chart: &'static str,
     /// The SVG text, or why it has nothing to draw.
     pub drawn: Result<String, NothingToDraw>,
+}
+
+/// Readies drawing into `dir`: the font registered and the folder made.
+fn prepare(dir: &Path) -> Result<(), ChartError> {
+    render::register_font()?;
+    std::fs::create_dir_all(dir).map_err(|source| ChartError::Dir {
+        path: dir.to_path_buf(),
+        source,
+    })
+}
+
+/// Writes `chart` into `dir` as `<stem>.<format>` in each of `formats`; the files written.
+fn write_formats(
+    chart: &render::Chart,
+    dir: &Path,
+    stem: &str,
+    formats: &[ChartFormat],
+) -> Result<Vec<PathBuf>, ChartError> {
+    let mut files = Vec::new();
+    for &format in formats {
+        let path = dir.join(format!("{stem}.{}", format.name()));
+        render::write(chart, &path, format)?;
+        files.push(path);
+    }
+    Ok(files)
 }
 
 /// Every chart, in the order of [`CHARTS`] (a chart drawn per slice once per slice), as SVG

@@ -114,6 +114,14 @@ pub(super) struct LinePanel {
     pub series: Vec<Series>,
 }
 
+/// A labelled vertical mark across a line plot, such as a change between two runs.
+pub(super) struct Marker {
+    /// On the category axis: a category's index, or between two (4.5 lies between 4 and 5).
+    pub at: f64,
+    pub color: RGBColor,
+    pub label: String,
+}
+
 /// Category lines on a log y axis; the first category can stand apart from the curve.
 pub(super) struct LinePlot {
     pub panels: Vec<LinePanel>,
@@ -121,6 +129,8 @@ pub(super) struct LinePlot {
     pub first_apart: bool,
     pub x_desc: String,
     pub y_desc: String,
+    /// Drawn across every panel, over the lines.
+    pub markers: Vec<Marker>,
 }
 
 /// One row of a stacked breakdown.
@@ -614,7 +624,7 @@ fn group_labels<DB: DrawingBackend>(
     groups: &[String],
     group_px: f64,
 ) -> Result<(), DrawError> {
-    let style = font(13.0).pos(Pos::new(HPos::Center, VPos::Top));
+    let style = font(15.0).pos(Pos::new(HPos::Center, VPos::Top));
     let base = area.get_base_pixel();
     for (i, g) in groups.iter().enumerate() {
         let (x, y) = chart.backend_coord(&(i as f64, 0.0));
@@ -772,6 +782,20 @@ fn lines<DB: DrawingBackend>(
                         .map(|&(_, x, v)| Circle::new((x, v), 5, series.color.filled())),
                 )
                 .map_err(err)?;
+        }
+        let style = font(15.0).pos(Pos::new(HPos::Center, VPos::Top));
+        for (k, m) in plot.markers.iter().enumerate() {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    [(m.at, lo), (m.at, hi)],
+                    8,
+                    5,
+                    m.color.stroke_width(2),
+                ))
+                .map_err(err)?;
+            // Stacked down from the top, so two changes at one place both stay legible.
+            let (x, y) = chart.backend_coord(&(m.at, hi));
+            label(area, &m.label, &style, (x, y + 4 + 18 * k as i32))?;
         }
     }
     Ok(())
