@@ -214,3 +214,37 @@ fn a_number_outside_the_blocks_fails_the_check_unless_the_code_checks_it() {
     assert!(stdout.contains("2 (workload level"), "{stdout}");
     assert!(stdout.contains("1.74 (UNCHECKED)"), "{stdout}");
 }
+
+/// A `compare` block states `oceanbench compare`'s counts and exit status for two committed runs,
+/// within one placement when asked, and refuses a run that is not there.
+#[test]
+fn compare_blocks_state_the_verdict_counts_of_two_runs() {
+    use oceanbench::publish::blocks::{self, Block};
+    use oceanbench::publish::Context;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut context = Context::new(root);
+    let file = root.join("docs/trace.md");
+    let run = "trace-overhead-20261127T220001Z";
+    let block = |attrs: &str| -> Block {
+        let text = format!("<!-- ob:compare {attrs} -->x<!-- /ob -->");
+        blocks::parse(&text).unwrap().remove(0)
+    };
+    let near = context
+        .render(
+            &file,
+            &block(&format!("run={run}/base1 new={run}/head1 placement=near")),
+        )
+        .unwrap();
+    assert!(
+        near.ends_with(", exit 0") && near.contains("16 within noise"),
+        "{near}"
+    );
+    let pair = format!("run={run}/base1 new={run}/base2");
+    let all = context.render(&file, &block(&pair)).unwrap();
+    let near = context
+        .render(&file, &block(&format!("{pair} placement=near")))
+        .unwrap();
+    assert_ne!(near, all, "--placement near cuts the trials compared");
+    let missing = context.render(&file, &block(&format!("run={run}/base1 new={run}/none")));
+    assert!(missing.is_err_and(|e| e.contains("does not exist")));
+}

@@ -19,7 +19,9 @@
 //!   with indexes for lists; a list renders as `a, b, c`);
 //! - `bench run=bench-... [id=ID [over=ID]] [ids=PREFIX,...]`: a benchmark run's estimates;
 //! - `latency run=latency-... [method=M cores=one|two [stat=..] [over=M2] [unit=..] [digits=N]]`:
-//!   a latency run's round-trip table, or one number of it ([`latency`]).
+//!   a latency run's round-trip table, or one number of it ([`latency`]);
+//! - `compare run=BASE new=NEW [placement=P] [threshold=T]`: `oceanbench compare`'s verdict
+//!   counts for the two runs and its exit status.
 
 mod bench;
 pub mod blocks;
@@ -71,6 +73,10 @@ impl Context {
 
     fn run(&mut self, block: &Block) -> Result<(&str, &Results, &Findings), BlockError> {
         let name = run_name(block)?.to_string();
+        self.run_named(name)
+    }
+
+    fn run_named(&mut self, name: String) -> Result<(&str, &Results, &Findings), BlockError> {
         if !self.runs.contains_key(&name) {
             let path = self.root.join("results").join(&name);
             if !path.join("results.json").is_file() {
@@ -104,9 +110,10 @@ impl Context {
             "ref" => &["name"],
             "bench" => &["run", "id", "over", "ids"],
             "latency" => &["run", "method", "cores", "stat", "over", "unit", "digits"],
+            "compare" => &["run", "new", "placement", "threshold"],
             other => {
                 return Err(format!(
-                    "unknown block kind `{other}` (allowed: table, findings, value, grid, figure, source, levels, const, config, ref, bench, latency)"
+                    "unknown block kind `{other}` (allowed: table, findings, value, grid, figure, source, levels, const, config, ref, bench, latency, compare)"
                 ))
             }
         };
@@ -137,6 +144,9 @@ impl Context {
         }
         if block.kind == "latency" {
             return latency::render(&self.root, block, &link);
+        }
+        if block.kind == "compare" {
+            return self.compare(block);
         }
         let multiline = block.multiline;
         let (_, results, found) = self.run(block)?;
@@ -226,6 +236,58 @@ impl Context {
             "levels" => Ok(markdown::levels(results)),
             _ => unreachable!("kinds are checked above"),
         }
+    }
+
+    /// A `compare` block: `oceanbench compare RUN NEW [--placement P] [--threshold T]`'s
+    /// summary line, then what its exit status would be.
+    fn compare(&mut self, block: &Block) -> Result<String, BlockError> {
+        let new_name = block
+            .attr("new")
+            .ok_or("`compare` needs new=NAME (the run compared against run=)")?
+            .trim_end_matches('/')
+            .trim_start_matches("results/")
+            .to_string();
+        let placement = block
+            .attr("placement")
+            .map(|p| {
+                <crate::placement::Class as clap::ValueEnum>::from_str(p, false)
+                    .map_err(|_| format!("placement: `{p}` is not one, near, far or moved"))
+            })
+            .transpose()?;
+        let threshold = match block.attr("threshold") {
+            None => crate::report::compare::DEFAULT_THRESHOLD_PCT,
+            Some(t) => t
+                .parse::<f64>()
+                .ok()
+                .filter(|t| t.is_finite() && *t >= 0.0)
+                .ok_or_else(|| format!("threshold: `{t}` is not a percentage >= 0"))?,
+        };
+        let placed = |r: &Results| match placement {
+            Some(class) => r.in_placement(class),
+            None => r.clone(),
+        };
+        let (base, base_unknown) = {
+            let (_, r, _) = self.run(block)?;
+            (placed(r), tree_unknown(r))
+        };
+        let (new, new_unknown) = {
+            let (_, r, _) = self.run_named(new_name)?;
+            (placed(r), tree_unknown(r))
+        };
+        let c = crate::report::compare::between(
+            &base,
+            &new,
+            threshold,
+            crate::report::compare::Metric::Fps,
+        );
+        if let Some(why) = c.nothing_compared() {
+            return Err(format!("compare: {why}"));
+        }
+        let exit = if c.regressed() { 1 } else { 0 };
+        Ok(qualified(
+            format!("{}, exit {exit}", c.summary_line()),
+            &[base_unknown.or(new_unknown)],
+        ))
     }
 
     /// The relative link from `file` to the block's run folder.
