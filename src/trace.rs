@@ -210,15 +210,28 @@ fn writable(flag: &str, dir: &Path, what: &str) -> Result<(), InputError> {
     Ok(())
 }
 
+/// Timestamps are written in whole ticks of 1/1024 µs (under 1 ns). A tick count over a power
+/// of two is an exact f64, and so are the sums and differences viewers compute from it: a slice
+/// whose `ts + dur` is the next slice's `ts` lands exactly on it. In ns ÷ 1000 it lands a rounding
+/// error past it, and speedscope then nests every later slice of the thread inside it.
+pub const TICKS_PER_US: u64 = 1024;
+
+/// Ticks of [`TICKS_PER_US`] nearest to `ns`; never decreasing, so the order of instants holds.
+fn ticks(ns: u64) -> u64 {
+    ((u128::from(ns) * u128::from(TICKS_PER_US) + 500) / 1000) as u64
+}
+
+/// `ns` as a trace timestamp, in µs.
 fn us(ns: u64) -> f64 {
-    ns as f64 / 1e3
+    ticks(ns) as f64 / TICKS_PER_US as f64
 }
 
 /// A complete (`X`) slice on thread `tid` from `start` to `end` (ns).
 fn slice(name: &str, cat: &str, tid: u64, start: u64, end: u64, args: Json) -> Json {
+    let dur = ticks(end).saturating_sub(ticks(start)) as f64 / TICKS_PER_US as f64;
     json!({
         "name": name, "cat": cat, "ph": "X", "pid": PID, "tid": tid,
-        "ts": us(start), "dur": us(end.saturating_sub(start)), "args": args,
+        "ts": us(start), "dur": dur, "args": args,
     })
 }
 

@@ -67,8 +67,16 @@ fn threads(trace: &Value) -> BTreeMap<u64, String> {
 }
 
 /// Checks that on every thread the `X` slices nest or follow each other, and returns them by tid
-/// in start order.
+/// in start order. The check is exact, in f64, on times shifted to the trace's first event, as
+/// speedscope computes them: a slice that ends where the next starts must not end a rounding
+/// error past it, or speedscope nests every later slice inside it.
 fn slices_nest(trace: &Value) -> BTreeMap<u64, Vec<&Value>> {
+    let origin = events(trace, "X")
+        .iter()
+        .map(|e| f(e, "ts"))
+        .fold(f64::INFINITY, f64::min);
+    let start = |e: &Value| f(e, "ts") - origin;
+    let end = |e: &Value| start(e) + f(e, "dur");
     let mut by_tid: BTreeMap<u64, Vec<&Value>> = BTreeMap::new();
     for e in events(trace, "X") {
         assert!(f(e, "dur") >= 0.0, "{e}");
@@ -85,15 +93,12 @@ fn slices_nest(trace: &Value) -> BTreeMap<u64, Vec<&Value>> {
         });
         let mut open: Vec<&Value> = Vec::new();
         for s in slices.iter() {
-            while open
-                .last()
-                .is_some_and(|p| f(p, "ts") + f(p, "dur") <= f(s, "ts") + EPS_US)
-            {
+            while open.last().is_some_and(|p| end(p) <= start(s)) {
                 open.pop();
             }
             if let Some(parent) = open.last() {
                 assert!(
-                    f(s, "ts") + f(s, "dur") <= f(parent, "ts") + f(parent, "dur") + EPS_US,
+                    end(s) <= end(parent),
                     "tid {tid}: {s} overlaps {parent} without nesting in it"
                 );
             }

@@ -82,6 +82,11 @@ pub fn all() -> Vec<(&'static str, &'static str, String)> {
             crate::frame_loop::MAX_HELPERS.to_string(),
         ),
         (
+            "trace_ticks_per_us",
+            "the ticks per µs a trace's timestamps are whole numbers of",
+            crate::trace::TICKS_PER_US.to_string(),
+        ),
+        (
             "schema_version",
             "the results.json layout this build writes",
             crate::results::SCHEMA_VERSION.to_string(),
