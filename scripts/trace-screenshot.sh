@@ -4,7 +4,8 @@
 #
 #   scripts/trace-screenshot.sh TRACE.json [PNG] [WIDTHxHEIGHT]
 #
-# Needs node/npm (speedscope comes from the npm registry into a temporary folder) and Chromium.
+# Needs node/npm (speedscope comes from the npm registry into a temporary folder) and Chromium;
+# speedscope draws with WebGL, which headless Chromium gives it through SwiftShader.
 set -euo pipefail
 
 if [[ $# -lt 1 || $# -gt 3 ]]; then
@@ -38,7 +39,8 @@ const name = require("path").basename(trace);
 const b64 = fs.readFileSync(trace).toString("base64");
 fs.writeFileSync(out, `speedscope.loadFileFromBase64(${JSON.stringify(name)}, ${JSON.stringify(b64)})`);
 ' "$trace" "$work/profile.js"
-"$browser" --headless --no-sandbox --disable-gpu --hide-scrollbars --allow-file-access-from-files \
+"$browser" --headless --no-sandbox --use-angle=swiftshader --enable-unsafe-swiftshader --hide-scrollbars \
+    --allow-file-access-from-files \
     --window-size="${size/x/,}" --virtual-time-budget=8000 --screenshot="$png" \
     "file://$work/node_modules/speedscope/dist/release/index.html#localProfilePath=$work/profile.js" \
     2>/dev/null
