@@ -212,7 +212,7 @@ fn a_threshold_outside_0_to_100_is_refused_and_ignored_flags_are_said_once() {
         let flag = format!("--slow-trial-percent={bad}");
         assert_one_line_exit_2(
             &oceanbench_locked(&locks, &["run", &flag]),
-            &["slow_trial_percent"],
+            &["--slow-trial-percent:"],
         );
     }
     let err = SweepConfig::from_json(r#"{"slow_trial_percent": 250}"#)
