@@ -11,6 +11,10 @@
 #
 #   scripts/mutants.sh src/lock.rs src/slow_trials.rs
 #   OUT=results/mutants-x scripts/mutants.sh src/balance/   # adds a module to an earlier folder
+#   scripts/mutants.sh 'src/sweep.rs:Sweep::resume'         # a file's mutants matching a regex
+#
+# The covering tests are found by the module paths they name; tests that drive the binary name
+# none, so scripts/mutants-tests.txt lists them per module.
 #
 # Slow (a build and the covering tests per mutant): run it on a schedule, not on every push
 # (docs/ci.md). Exit status: 0 when every survivor is explained, 1 when one is not, 2 on bad
@@ -18,7 +22,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-usage="usage: scripts/mutants.sh MODULE... (source files or folders under src/)"
+usage="usage: scripts/mutants.sh MODULE... (source files or folders under src/, or FILE:REGEX for a file's mutants whose names match REGEX)"
 if [ $# -lt 1 ]; then
   echo "$usage" >&2
   exit 2
@@ -29,6 +33,7 @@ if ! cargo mutants --version >/dev/null 2>&1; then
 fi
 for m in "$@"; do
   case "$m" in
+    src/*.rs:?*) [ -f "${m%%:*}" ] || { echo "scripts/mutants.sh: ${m%%:*} is no source file ($usage)" >&2; exit 2; } ;;
     src/*.rs) [ -f "$m" ] || { echo "scripts/mutants.sh: $m is no source file ($usage)" >&2; exit 2; } ;;
     src/*/) [ -d "$m" ] || { echo "scripts/mutants.sh: $m is no folder of src/ ($usage)" >&2; exit 2; } ;;
     *) echo "scripts/mutants.sh: $m is no source file or folder under src/ ($usage)" >&2; exit 2 ;;
@@ -38,8 +43,8 @@ done
 # The test targets that cover a module, one `--test=NAME` word each: the library's unit tests, and every integration test
 # that names the module's path (oceanbench::lock, oceanbench::report::json), or, for a module
 # inside a folder, names it on a line under its top module (oceanbench::report::{json, ...};
-# report::compare, re-exported from report::analysis); the lock tests drive the binary and name
-# no path, so they are added by name.
+# report::compare, re-exported from report::analysis); and those scripts/mutants-tests.txt
+# lists for it.
 tests_for() {
   local module="$1" file name path top args=(--lib) files=()
   if [ -d "$module" ]; then
@@ -61,7 +66,9 @@ tests_for() {
       fi
     done
   done
-  [ "$(basename "$module" .rs)" != lock ] || args+=(--test=locks)
+  local listed
+  listed="$(awk -v m="$module" '!/^#/ && $1 == m ":" { for (i = 2; i <= NF; i++) print "--test=" $i }' scripts/mutants-tests.txt)"
+  [ -z "$listed" ] || mapfile -t -O "${#args[@]}" args <<<"$listed"
   printf '%s\n' "${args[@]}" | awk '!seen[$0]++'
 }
 
@@ -88,16 +95,22 @@ dirty=false
 git diff-index --quiet HEAD -- || dirty=true
 status=0
 for m in "$@"; do
-  name="$(echo "${m%/}" | sed 's|^src/||; s|/|-|g; s|\.rs$||')"
-  mapfile -t targets < <(tests_for "$m")
-  mapfile -t filter < <(test_filter "$m")
-  glob="$m"
-  [ -d "$m" ] && glob="${m%/}/**/*.rs"
+  file="${m%%:*}"
+  re=()
+  name="$(echo "${file%/}" | sed 's|^src/||; s|/|-|g; s|\.rs$||')"
+  if [ "$file" != "$m" ]; then
+    re=(--re "${m#*:}")
+    name="$name-$(echo "${m#*:}" | tr -c 'A-Za-z0-9' '-' | sed 's/--*/-/g; s/^-//; s/-$//')"
+  fi
+  mapfile -t targets < <(tests_for "$file")
+  mapfile -t filter < <(test_filter "$file")
+  glob="$file"
+  [ -d "$file" ] && glob="${file%/}/**/*.rs"
   echo "== $m: cargo test ${targets[*]} -- ${filter[*]}" >&2
   # --copy-vcs: tests read git (a run's provenance). Each mutant builds in a copy taken when
   # the module starts, so run this from a tree nobody edits meanwhile (a `git worktree`).
   # cargo-mutants exits 2 when a mutant survives, 3 on a timeout: outcomes are what count here.
-  cargo mutants --no-shuffle --copy-vcs=true -j "$jobs" -f "$glob" --output "$out/$name.tmp" \
+  cargo mutants --no-shuffle --copy-vcs=true -j "$jobs" -f "$glob" "${re[@]}" --output "$out/$name.tmp" \
     --minimum-test-timeout 30 -- "${targets[@]}" -- "${filter[@]}" >&2 || true
   rm -rf "${out:?}/$name"
   mv "$out/$name.tmp/mutants.out" "$out/$name"

@@ -330,6 +330,12 @@ mod tests {
         assert_eq!(causes(&facts, 0), Some(vec![Cause::SlowMainCore]));
         let r = &attribute(&facts, 10.0)[0];
         assert!((r.slow.as_ref().unwrap().below_median_percent - 10.5).abs() < 1e-9);
+        // Exactly the threshold below is not slow: slow is more than the threshold below
+        // (50 FPS under a median of 100 is 50 % below, exact in binary).
+        let mut half = quiet();
+        half[0].fps = 50.0;
+        assert!(attribute(&half, 50.0)[0].slow.is_none());
+        assert!(attribute(&half, 49.0)[0].slow.is_some());
         // A round trip 1.9x the median is the same placement.
         facts[0].workload_ratio = Some(1.0);
         facts[0].round_trip_ns = Some([228.0, 120.0]);
