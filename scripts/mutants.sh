@@ -12,6 +12,9 @@
 #   scripts/mutants.sh src/lock.rs src/slow_trials.rs
 #   OUT=results/mutants-x scripts/mutants.sh src/balance/   # adds a module to an earlier folder
 #   scripts/mutants.sh 'src/sweep.rs:Sweep::resume'         # a file's mutants matching a regex
+#   RETEST=1 OUT=results/mutants-x scripts/mutants.sh src/slow_trials.rs
+#       # only the module's survivors in that folder, against today's tests: a survivor a new
+#       # test kills is then counted caught, with the commit of the test (<module>-retest/)
 #
 # The covering tests are found by the module paths they name; tests that drive the binary name
 # none, so scripts/mutants-tests.txt lists them per module.
@@ -102,6 +105,17 @@ for m in "$@"; do
     re=(--re "${m#*:}")
     name="$name-$(echo "${m#*:}" | tr -c 'A-Za-z0-9' '-' | sed 's/--*/-/g; s/^-//; s/-$//')"
   fi
+  if [ -n "${RETEST:-}" ]; then
+    [ "$file" = "$m" ] || { echo "scripts/mutants.sh: RETEST takes whole modules, not $m" >&2; exit 2; }
+    survivors="$(cat "$out/$name/missed.txt" "$out/$name/timeout.txt" 2>/dev/null || true)"
+    if [ -z "$survivors" ]; then
+      echo "== $m: no survivor in $out/$name to retest" >&2
+      continue
+    fi
+    # The survivors' exact names (file:line:column: change), as one anchored alternation.
+    re=(--re "^($(printf '%s\n' "$survivors" | sed 's/[][\\.*+?(){}|^$]/\\&/g' | paste -sd '|'))\$")
+    name="$name-retest"
+  fi
   mapfile -t targets < <(tests_for "$file")
   mapfile -t filter < <(test_filter "$file")
   glob="$file"
@@ -126,7 +140,7 @@ python3 - "$out" <<'EOF' || status=$?
 import json, re, sys, pathlib
 out = pathlib.Path(sys.argv[1])
 # Every module run into this folder so far, this call's and earlier ones'.
-modules = sorted(d.name for d in out.iterdir() if (d / "commit").exists())
+modules = sorted(d.name for d in out.iterdir() if (d / "commit").exists() and not d.name.endswith("-retest"))
 equivalent = {}
 for line in pathlib.Path("scripts/mutants-equivalent.txt").read_text().splitlines():
     if line.strip() and not line.startswith("#"):
@@ -147,26 +161,44 @@ for name in modules:
     commit, _, dirty = (d / "commit").read_text().strip().partition(" ")
     caught, missed = lines(d / "caught.txt"), lines(d / "missed.txt")
     timeout, unviable = lines(d / "timeout.txt"), lines(d / "unviable.txt")
-    survivors = [{"mutant": s, "equivalent": equivalent.get(key(s))} for s in missed + timeout]
-    unexplained += sum(1 for s in survivors if s["equivalent"] is None)
+    # A survivor the retest caught was killed by a test written after the module's run.
+    retest = out / f"{name}-retest"
+    retest_commit = (retest / "commit").read_text().split()[0] if (retest / "commit").exists() else None
+    killed_later = set(lines(retest / "caught.txt"))
+    survivors = []
+    for s in missed + timeout:
+        if s in killed_later:
+            survivors.append({"mutant": s, "caught_on_retest": retest_commit, "equivalent": None})
+        else:
+            survivors.append({"mutant": s, "equivalent": equivalent.get(key(s))})
+    unexplained += sum(1 for s in survivors if s["equivalent"] is None and "caught_on_retest" not in s)
+    on_retest = sum(1 for s in survivors if "caught_on_retest" in s)
     viable = len(caught) + len(missed) + len(timeout)
     summary["modules"].append({
         "module": name, "commit": commit, "dirty": dirty == "dirty", "caught": len(caught), "missed": len(missed), "timeout": len(timeout),
-        "unviable": len(unviable),
-        "caught_percent": round(100 * len(caught) / viable, 1) if viable else None,
+        "unviable": len(unviable), "caught_on_retest": on_retest, "retest_commit": retest_commit,
+        "caught_percent": round(100 * (len(caught) + on_retest) / viable, 1) if viable else None,
         "survivors": survivors,
     })
 (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
 md = ["# Mutants", "",
-      "| module | commit | caught | missed | timeout | unviable | caught of viable |", "|---|---|---:|---:|---:|---:|---:|"]
+      "Missed and timeout are the module's run; a survivor a later test kills is counted caught on its retest.", "",
+      "| module | commit | caught | missed | timeout | unviable | caught on retest | caught of viable |", "|---|---|---:|---:|---:|---:|---:|---:|"]
 for m in summary["modules"]:
     pct = "–" if m["caught_percent"] is None else f"{m['caught_percent']} %"
     tree = m["commit"][:12] + (" (dirty tree)" if m["dirty"] else "")
-    md.append(f"| {m['module']} | {tree} | {m['caught']} | {m['missed']} | {m['timeout']} | {m['unviable']} | {pct} |")
+    retest = f"{m['caught_on_retest']} (at {m['retest_commit'][:12]})" if m["retest_commit"] else "–"
+    md.append(f"| {m['module']} | {tree} | {m['caught']} | {m['missed']} | {m['timeout']} | {m['unviable']} | {retest} | {pct} |")
 md += ["", "Survivors:", ""]
 for m in summary["modules"]:
     for s in m["survivors"]:
-        md.append(f"- {s['mutant']}: " + (f"equivalent: {s['equivalent']}" if s["equivalent"] else "**unexplained**"))
+        if "caught_on_retest" in s:
+            why = f"caught on retest at {s['caught_on_retest'][:12]}"
+        elif s["equivalent"]:
+            why = f"equivalent: {s['equivalent']}"
+        else:
+            why = "**unexplained**"
+        md.append(f"- {s['mutant']}: {why}")
 (out / "summary.md").write_text("\n".join(md) + "\n")
 print("\n".join(md))
 sys.exit(1 if unexplained else 0)
