@@ -13,7 +13,8 @@ use serde::{Deserialize, Serialize};
 /// A canary this much slower than its reference says its core ran slower.
 pub const CANARY_SLOWER: f64 = 0.10;
 
-/// Round trips this many times apart are two placements (near and far), the sweep's own rule.
+/// Round trips more than this many times apart are two placements (near and far), the sweep's
+/// own rule.
 pub const PLACEMENT_RATIO: f64 = crate::crosscore::PLACEMENT_CHANGE_RATIO;
 
 /// The default share below the cell's median FPS that makes a trial slow, in percent.
@@ -295,7 +296,7 @@ mod tests {
         let records = attribute(&facts, 10.0);
         assert_eq!(records[3].step_ratio, Some(1.0));
         assert_eq!(records[0].step_ratio, None, "no step, no ratio");
-        // Six unmeasured round trips of ten: the median of the measured ones is 122.5 ns, so a
+        // Six unmeasured round trips of ten: the median of the measured ones is 120 ns (the lower middle), so a
         // slow trial at 120-125 ns stayed where it was (with the zeros the median is 0).
         let mut facts = quiet();
         for f in &mut facts[..3] {
@@ -340,6 +341,12 @@ mod tests {
         facts[0].workload_ratio = Some(1.0);
         facts[0].round_trip_ns = Some([228.0, 120.0]);
         assert_eq!(causes(&facts, 0), Some(vec![Cause::Unexplained]));
+        // Exactly 2x the median (120 ns, the lower middle of ten) is still the same placement,
+        // as the sweep's rule has it; a little more is a move.
+        facts[0].round_trip_ns = Some([240.0, 120.0]);
+        assert_eq!(causes(&facts, 0), Some(vec![Cause::Unexplained]));
+        facts[0].round_trip_ns = Some([241.0, 120.0]);
+        assert_eq!(causes(&facts, 0), Some(vec![Cause::PlacementChange]));
     }
 
     #[test]
