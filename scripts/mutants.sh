@@ -112,8 +112,9 @@ for m in "$@"; do
       echo "== $m: no survivor in $out/$name to retest" >&2
       continue
     fi
-    # The survivors' exact names (file:line:column: change), as one anchored alternation.
-    re=(--re "^($(printf '%s\n' "$survivors" | sed 's/[][\\.*+?(){}|^$]/\\&/g' | paste -sd '|'))\$")
+    # The survivors' names (file:line:column: change) as one anchored alternation, at any line
+    # and column: a test written since may have moved them.
+    re=(--re "^($(printf '%s\n' "$survivors" | sed 's/[][\\.*+?(){}|^$]/\\&/g; s/^\([^:]*\):[0-9]*:[0-9]*:/\1:[0-9]+:[0-9]+:/' | paste -sd '|'))\$")
     name="$name-retest"
   fi
   mapfile -t targets < <(tests_for "$file")
@@ -164,10 +165,13 @@ for name in modules:
     # A survivor the retest caught was killed by a test written after the module's run.
     retest = out / f"{name}-retest"
     retest_commit = (retest / "commit").read_text().split()[0] if (retest / "commit").exists() else None
-    killed_later = set(lines(retest / "caught.txt"))
+    # Matched without line and column (a new test may move them): a survivor is caught on
+    # retest when every mutant of its name the retest ran was caught.
+    killed_later = {key(s) for s in lines(retest / "caught.txt")} - {
+        key(s) for s in lines(retest / "missed.txt") + lines(retest / "timeout.txt")}
     survivors = []
     for s in missed + timeout:
-        if s in killed_later:
+        if key(s) in killed_later:
             survivors.append({"mutant": s, "caught_on_retest": retest_commit, "equivalent": None})
         else:
             survivors.append({"mutant": s, "equivalent": equivalent.get(key(s))})

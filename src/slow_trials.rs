@@ -296,13 +296,17 @@ mod tests {
         let records = attribute(&facts, 10.0);
         assert_eq!(records[3].step_ratio, Some(1.0));
         assert_eq!(records[0].step_ratio, None, "no step, no ratio");
-        // Six unmeasured round trips of ten: the median of the measured ones is 120 ns (the lower middle), so a
-        // slow trial at 120-125 ns stayed where it was (with the zeros the median is 0).
+        // Six unmeasured round trips of ten: the median of the measured ones is 120 ns (the
+        // lower middle), so a slow trial at 120-125 ns stayed where it was (with the zeros the
+        // median is 0).
         let mut facts = quiet();
         for f in &mut facts[..3] {
             f.round_trip_ns = Some([0.0, 0.0]);
         }
         facts[3].fps = 60.0;
+        assert_eq!(causes(&facts, 3), Some(vec![Cause::Unexplained]));
+        // Nor did a slow trial whose own round trip went unmeasured.
+        facts[3].round_trip_ns = Some([0.0, 120.0]);
         assert_eq!(causes(&facts, 3), Some(vec![Cause::Unexplained]));
     }
 
