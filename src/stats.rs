@@ -131,6 +131,7 @@ mod tests {
         assert_eq!(mean(&v), 5.0);
         assert!((stddev(&v) - (32.0f64 / 7.0).sqrt()).abs() < 1e-12);
         assert_eq!(stddev(&[3.0]), 0.0);
+        assert_eq!(stddev(&[1.0, 3.0]), 2f64.sqrt(), "two values have a spread");
         assert_eq!(min_max(&v), (2.0, 9.0));
         assert!(mean(&[]).is_nan());
     }
@@ -181,5 +182,14 @@ mod tests {
             "{counts:?}"
         );
         assert_ne!(seed_from("256 w2 dp"), seed_from("256 w2 up"));
+    }
+
+    /// FNV-1a's published 64-bit values (the offset basis for "", and "a", "foobar"): the
+    /// committed intervals are seeded by cell names through exactly this hash.
+    #[test]
+    fn the_seed_is_fnv_1a() {
+        assert_eq!(seed_from(""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(seed_from("a"), 0xaf63_dc4c_8601_ec8c);
+        assert_eq!(seed_from("foobar"), 0x8594_4171_f739_67e8);
     }
 }
