@@ -143,10 +143,9 @@ impl Pool {
     /// or below `surface`; returns how many it killed, each slot pushed on the free list in slot
     /// order.
     ///
-    /// A block of slots at a time, in passes a branch per slot would defeat (whether a slot is
-    /// alive, and where its particle is, are unpredictable): each particle's cell and weights,
-    /// then the cells' heights gathered, then the verdicts, the first and last passes plain
-    /// arithmetic over arrays that LLVM vectorises; then the block's dying slots are freed.
+    /// Each block of slots is decided first without a branch (whether a slot is alive, and
+    /// where its particle is, are both unpredictable: a branch per slot cost about 10× the
+    /// integration), then its dying slots are freed.
     pub fn kill(
         &mut self,
         surface: &Surface<'_>,
@@ -154,31 +153,21 @@ impl Pool {
         range: std::ops::Range<usize>,
     ) -> u32 {
         const BLOCK: usize = 256;
-        let mut at = [Cell::default(); BLOCK];
-        let mut corners = [[0.0f32; 4]; BLOCK];
         let mut dies = [false; BLOCK];
         let mut killed = 0;
         for start in range.clone().step_by(BLOCK) {
             let block = start..(start + BLOCK).min(range.end);
-            let len = block.len();
-            let xy = self.px[block.clone()].iter().zip(&self.py[block.clone()]);
-            for (at, (&x, &y)) in at.iter_mut().zip(xy) {
-                *at = surface.cell(x, y);
-            }
-            for (corners, at) in corners[..len].iter_mut().zip(&at) {
-                *corners = surface.corners(at.index as usize);
-            }
             let slots = itertools::izip!(
                 &mut dies,
-                &at,
-                &corners,
+                &self.px[block.clone()],
+                &self.py[block.clone()],
                 &self.pz[block.clone()],
                 &self.age[block.clone()],
                 &self.alive[block.clone()],
             );
-            for (dies, at, &corners, &z, &age, &alive) in slots {
-                let h = bilinear(corners, at.tx, at.ty);
-                *dies = alive & ((age > lifetime) | !at.inside | (z < h));
+            for (dies, &x, &y, &z, &age, &alive) in slots {
+                let (h, inside) = surface.height_anywhere(x, y);
+                *dies = alive & ((age > lifetime) | !inside | (z < h));
             }
             for (i, &dies) in block.zip(&dies) {
                 if dies {
@@ -229,60 +218,26 @@ impl<'a> Surface<'a> {
     /// The height over rest position (x, y): bilinear in the rest-grid cell under it; `None`
     /// outside the grid.
     pub fn height(&self, x: f32, y: f32) -> Option<f32> {
-        let at = self.cell(x, y);
-        at.inside
-            .then(|| bilinear(self.corners(at.index as usize), at.tx, at.ty))
+        let (h, inside) = self.height_anywhere(x, y);
+        inside.then_some(h)
     }
 
-    /// The rest-grid cell under (x, y) and the point's place in it, without a branch; outside
-    /// the grid, the first cell (whose heights nobody uses).
+    /// [`Surface::height`] without a branch: the height and `true` inside the grid; outside it,
+    /// `false` and the height of the first cell (any value would do).
     #[inline(always)]
-    fn cell(&self, x: f32, y: f32) -> Cell {
+    fn height_anywhere(&self, x: f32, y: f32) -> (f32, bool) {
         let (fx, fy) = (x / self.spacing, y / self.spacing);
         let last = (self.n - 1) as f32;
         // Written so that NaN fails too.
         let inside = (fx >= 0.0) & (fy >= 0.0) & (fx < last) & (fy < last);
         let (fx, fy) = if inside { (fx, fy) } else { (0.0, 0.0) };
-        // Below n − 1 < 2³², so u32 truncates as usize would.
-        let (j, i) = (fx as u32, fy as u32);
-        Cell {
-            index: i * self.n as u32 + j,
-            tx: fx - j as f32,
-            ty: fy - i as f32,
-            inside,
-        }
+        let (j, i) = (fx as usize, fy as usize);
+        let (tx, ty) = (fx - j as f32, fy - i as f32);
+        let at = |i: usize, j: usize| self.z[i * self.n + j];
+        let low = at(i, j) + (at(i, j + 1) - at(i, j)) * tx;
+        let high = at(i + 1, j) + (at(i + 1, j + 1) - at(i + 1, j)) * tx;
+        (low + (high - low) * ty, inside)
     }
-
-    /// The heights at the corners of the cell whose first vertex is `index`: (i, j), (i, j + 1),
-    /// (i + 1, j), (i + 1, j + 1).
-    #[inline(always)]
-    fn corners(&self, index: usize) -> [f32; 4] {
-        let n = self.n;
-        [
-            self.z[index],
-            self.z[index + 1],
-            self.z[index + n],
-            self.z[index + n + 1],
-        ]
-    }
-}
-
-/// Where a point falls in the rest grid: its cell's first vertex, its fractions along x and y,
-/// and whether it is on the grid at all.
-#[derive(Clone, Copy, Debug, Default)]
-struct Cell {
-    index: u32,
-    tx: f32,
-    ty: f32,
-    inside: bool,
-}
-
-/// Bilinear interpolation of a cell's corner heights (as [`Surface::corners`] orders them).
-#[inline(always)]
-fn bilinear([z00, z01, z10, z11]: [f32; 4], tx: f32, ty: f32) -> f32 {
-    let low = z00 + (z01 - z00) * tx;
-    let high = z10 + (z11 - z10) * tx;
-    low + (high - low) * ty
 }
 
 #[cfg(test)]
