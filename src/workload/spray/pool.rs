@@ -140,41 +140,23 @@ impl Pool {
     }
 
     /// Kills the live particles of `range` older than `lifetime`, outside the surface's patch,
-    /// or below `surface`; returns how many it killed, each slot pushed on the free list in slot
-    /// order.
-    ///
-    /// Each block of slots is decided first without a branch (whether a slot is alive, and
-    /// where its particle is, are both unpredictable: a branch per slot cost about 10× the
-    /// integration), then its dying slots are freed.
+    /// or below `surface`; returns how many it killed, each slot pushed on the free list.
     pub fn kill(
         &mut self,
         surface: &Surface<'_>,
         lifetime: f32,
         range: std::ops::Range<usize>,
     ) -> u32 {
-        const BLOCK: usize = 256;
-        let mut dies = [false; BLOCK];
         let mut killed = 0;
-        for start in range.clone().step_by(BLOCK) {
-            let block = start..(start + BLOCK).min(range.end);
-            let slots = itertools::izip!(
-                &mut dies,
-                &self.px[block.clone()],
-                &self.py[block.clone()],
-                &self.pz[block.clone()],
-                &self.age[block.clone()],
-                &self.alive[block.clone()],
-            );
-            for (dies, &x, &y, &z, &age, &alive) in slots {
-                let (h, inside) = surface.height_anywhere(x, y);
-                *dies = alive & ((age > lifetime) | !inside | (z < h));
+        for i in range {
+            if !self.alive[i] {
+                continue;
             }
-            for (i, &dies) in block.zip(&dies) {
-                if dies {
-                    self.alive[i] = false;
-                    self.free.push(i as u32);
-                    killed += 1;
-                }
+            let under = surface.height(self.px[i], self.py[i]);
+            if self.age[i] > lifetime || under.is_none_or(|h| self.pz[i] < h) {
+                self.alive[i] = false;
+                self.free.push(i as u32);
+                killed += 1;
             }
         }
         killed
@@ -218,25 +200,18 @@ impl<'a> Surface<'a> {
     /// The height over rest position (x, y): bilinear in the rest-grid cell under it; `None`
     /// outside the grid.
     pub fn height(&self, x: f32, y: f32) -> Option<f32> {
-        let (h, inside) = self.height_anywhere(x, y);
-        inside.then_some(h)
-    }
-
-    /// [`Surface::height`] without a branch: the height and `true` inside the grid; outside it,
-    /// `false` and the height of the first cell (any value would do).
-    #[inline(always)]
-    fn height_anywhere(&self, x: f32, y: f32) -> (f32, bool) {
         let (fx, fy) = (x / self.spacing, y / self.spacing);
         let last = (self.n - 1) as f32;
         // Written so that NaN fails too.
-        let inside = (fx >= 0.0) & (fy >= 0.0) & (fx < last) & (fy < last);
-        let (fx, fy) = if inside { (fx, fy) } else { (0.0, 0.0) };
+        if !(fx >= 0.0 && fy >= 0.0 && fx < last && fy < last) {
+            return None;
+        }
         let (j, i) = (fx as usize, fy as usize);
         let (tx, ty) = (fx - j as f32, fy - i as f32);
         let at = |i: usize, j: usize| self.z[i * self.n + j];
         let low = at(i, j) + (at(i, j + 1) - at(i, j)) * tx;
         let high = at(i + 1, j) + (at(i + 1, j + 1) - at(i + 1, j)) * tx;
-        (low + (high - low) * ty, inside)
+        Some(low + (high - low) * ty)
     }
 }
 
