@@ -8,16 +8,12 @@ use super::FftState;
 use crate::ocean::mesh::{Grid, Mesh, MeshRows};
 use crate::ocean::model::Stepper;
 use glam::{Vec2, Vec3};
-use parking_lot::RwLock;
-use std::ops::Range;
-use std::sync::Arc;
 
 /// The patch's surface at the last time asked for, and the state that computes it.
 #[derive(Clone, Debug)]
 pub struct FftAtPoints {
     state: FftState,
-    /// Made on first use: the band steppers of a split keep one only for a whole step.
-    surface: Option<Mesh>,
+    surface: Mesh,
     /// The time `surface` was computed for (bits of the f32), so that the bands one helper
     /// fills for one frame share one transform.
     at: Option<u32>,
@@ -26,29 +22,20 @@ pub struct FftAtPoints {
 impl FftAtPoints {
     /// Samples the surface `state` computes; `state` fills analytic normals.
     pub fn new(state: FftState) -> Self {
+        let grid = Grid::new(state.n, state.spacing()).expect("a checked size");
         FftAtPoints {
             state,
-            surface: None,
+            surface: Mesh::new(grid).with_fold(),
             at: None,
         }
     }
 
-    /// The patch's mesh, before any step.
-    fn blank(&self) -> Mesh {
-        let grid = Grid::new(self.state.n, self.state.spacing()).expect("a checked size");
-        Mesh::new(grid).with_fold()
-    }
-
     fn surface_at(&mut self, t: f32) -> &Mesh {
-        if self.surface.is_none() {
-            self.surface = Some(self.blank());
-        }
-        let surface = self.surface.as_mut().expect("made above");
         if self.at != Some(t.to_bits()) {
-            self.state.step(t, surface);
+            self.state.step(t, &mut self.surface);
             self.at = Some(t.to_bits());
         }
-        surface
+        &self.surface
     }
 }
 
@@ -58,146 +45,27 @@ impl Stepper for FftAtPoints {
         self.step_rows(t, mesh.rows_mut(0..n));
     }
 
-    /// The whole patch: a projected vertex may sample any part of it. Helpers splitting a
-    /// projected mesh share the patch's transform instead ([`FftAtPoints::split`]).
+    /// Every band computes the whole patch (a projected vertex may sample any part of it), so
+    /// helpers splitting a projected mesh each transform the patch: the same bits as one
+    /// helper, no faster.
     fn step_rows(&mut self, t: f32, rows: MeshRows<'_>) {
-        let surface = self.surface_at(t);
-        let n = surface.grid.n;
-        sample(&Surface::of(&vec![surface; n], surface.grid), rows);
+        sample(self.surface_at(t), rows);
     }
 
     fn boxed_clone(&self) -> Box<dyn Stepper> {
         Box::new(self.clone())
     }
-
-    /// Helper h computes its band's rows of the patch with [`FftState::split`]'s two phases,
-    /// into a patch of its own, then after the barrier samples its mesh rows from every
-    /// helper's rows: the same transform and the same sampling as one helper, so the same bits.
-    /// The mesh's bands are the patch's: both are N×N.
-    fn split(&self, bands: &[Range<usize>]) -> Vec<Box<dyn Stepper>> {
-        let shared = Arc::new(Patches {
-            bands: bands.to_vec(),
-            patches: bands.iter().map(|_| RwLock::new(self.blank())).collect(),
-        });
-        let alone = FftAtPoints {
-            surface: None,
-            at: None,
-            ..self.clone()
-        };
-        self.state
-            .split(bands)
-            .into_iter()
-            .enumerate()
-            .map(|(band, patch)| {
-                Box::new(FftAtPointsBand {
-                    whole: alone.clone(),
-                    patch,
-                    band,
-                    shared: Arc::clone(&shared),
-                }) as Box<dyn Stepper>
-            })
-            .collect()
-    }
 }
 
-/// The patch of a split projected step: helper h's patch holds, once phase 1 is over, the
-/// rows of band h (its other rows are never read). The locks are never contended when the
-/// frame loop's barrier orders the phases; they make a misordered use wrong rather than unsound.
-#[derive(Debug)]
-struct Patches {
-    bands: Vec<Range<usize>>,
-    patches: Vec<RwLock<Mesh>>,
-}
-
-/// One helper's part of a projected FFT step split among helpers: phases 0 and 1 are its band
-/// of the patch's transform ([`super::FftBand`]), phase 2 samples its band of the mesh.
-#[derive(Debug)]
-struct FftAtPointsBand {
-    /// For a whole step alone.
-    whole: FftAtPoints,
-    /// This band's stepper of the patch's transform.
-    patch: Box<dyn Stepper>,
-    band: usize,
-    shared: Arc<Patches>,
-}
-
-impl Stepper for FftAtPointsBand {
-    fn step(&mut self, t: f32, mesh: &mut Mesh) {
-        self.whole.step(t, mesh);
-    }
-
-    fn step_rows(&mut self, t: f32, rows: MeshRows<'_>) {
-        self.whole.step_rows(t, rows);
-    }
-
-    fn boxed_clone(&self) -> Box<dyn Stepper> {
-        Box::new(FftAtPointsBand {
-            whole: self.whole.clone(),
-            patch: self.patch.boxed_clone(),
-            band: self.band,
-            shared: Arc::clone(&self.shared),
-        })
-    }
-
-    fn phases(&self) -> usize {
-        3
-    }
-
-    fn step_phase(&mut self, phase: usize, t: f32, rows: MeshRows<'_>) {
-        let band = self.shared.bands[self.band].clone();
-        assert_eq!(
-            (rows.first_row, rows.rows()),
-            (band.start, band.len()),
-            "a band stepper fills its own band"
-        );
-        match phase {
-            0 | 1 => {
-                let mut patch = self.shared.patches[self.band].write();
-                self.patch.step_phase(phase, t, patch.rows_mut(band));
-            }
-            2 => {
-                let patches: Vec<_> = self.shared.patches.iter().map(|p| p.read()).collect();
-                let grid = patches[0].grid;
-                let mut by_row = Vec::with_capacity(grid.n);
-                for (band, patch) in self.shared.bands.iter().zip(&patches) {
-                    by_row.extend(band.clone().map(|_| &**patch));
-                }
-                sample(&Surface::of(&by_row, grid), rows);
-            }
-            _ => unreachable!("three phases"),
-        }
-    }
-
-    fn split(&self, bands: &[Range<usize>]) -> Vec<Box<dyn Stepper>> {
-        self.whole.split(bands)
-    }
-}
-
-/// The patch's surface by rows: `rows[i]` is a mesh whose row i holds the patch's row i.
-struct Surface<'a, 'm> {
-    grid: Grid,
-    rows: &'a [&'m Mesh],
-}
-
-impl<'a, 'm> Surface<'a, 'm> {
-    fn of(rows: &'a [&'m Mesh], grid: Grid) -> Self {
-        debug_assert_eq!(rows.len(), grid.n, "one mesh per row");
-        Surface { grid, rows }
-    }
-}
-
-/// The four surface vertices around a point, the meshes holding their two rows, and their
-/// bilinear weights.
-struct Corners<'m> {
-    rows: [&'m Mesh; 2],
+/// The four surface vertices around a point and their bilinear weights.
+struct Corners {
     index: [usize; 4],
     weight: [f32; 4],
 }
 
-impl<'m> Corners<'m> {
-    /// Around (px, py) on the surface, which repeats every n vertices.
-    fn around(px: f32, py: f32, surface: &Surface<'_, 'm>) -> Corners<'m> {
-        let (n, spacing) = (surface.grid.n, surface.grid.spacing);
+impl Corners {
+    /// Around (px, py) on a patch of n × n vertices `spacing` apart, repeating every n.
+    fn around(px: f32, py: f32, n: usize, spacing: f32) -> Corners {
         let wrap = |u: f32| {
             let cell = u.floor();
             let i0 = (cell as i64).rem_euclid(n as i64) as usize;
@@ -206,53 +74,48 @@ impl<'m> Corners<'m> {
         let (j0, j1, a) = wrap(px / spacing);
         let (i0, i1, b) = wrap(py / spacing);
         Corners {
-            rows: [surface.rows[i0], surface.rows[i1]],
             index: [i0 * n + j0, i0 * n + j1, i1 * n + j0, i1 * n + j1],
             weight: [(1.0 - a) * (1.0 - b), a * (1.0 - b), (1.0 - a) * b, a * b],
         }
     }
 
-    /// Corner k's mesh.
-    fn mesh(&self, k: usize) -> &'m Mesh {
-        self.rows[k / 2]
-    }
-
-    fn of(&self, field: impl Fn(&'m Mesh) -> &'m [f32]) -> f32 {
+    fn of(&self, field: &[f32]) -> f32 {
         let [w0, w1, w2, w3] = self.weight;
-        let [v0, v1, v2, v3] = [0, 1, 2, 3].map(|k| field(self.mesh(k))[self.index[k]]);
+        let [v0, v1, v2, v3] = self.index.map(|v| field[v]);
         w0 * v0 + w1 * v1 + w2 * v2 + w3 * v3
     }
 
     /// The displacement of the surface's vertices from their rest positions, interpolated.
-    fn displacement(&self, grid: Grid) -> Vec2 {
-        let (n, spacing) = (grid.n, grid.spacing);
+    fn displacement(&self, surface: &Mesh) -> Vec2 {
+        let n = surface.grid.n;
+        let spacing = surface.grid.spacing;
         let mut d = Vec2::ZERO;
-        for (k, (&v, &w)) in self.index.iter().zip(&self.weight).enumerate() {
+        for (&v, &w) in self.index.iter().zip(&self.weight) {
             let rest = Vec2::new((v % n) as f32, (v / n) as f32) * spacing;
-            let mesh = self.mesh(k);
-            d += w * (Vec2::new(mesh.x[v], mesh.y[v]) - rest);
+            d += w * (Vec2::new(surface.x[v], surface.y[v]) - rest);
         }
         d
     }
 }
 
 /// Fills a band whose x, y hold the placed points from the patch's `surface`.
-fn sample(surface: &Surface<'_, '_>, rows: MeshRows<'_>) {
+fn sample(surface: &Mesh, rows: MeshRows<'_>) {
+    let (n, spacing) = (surface.grid.n, surface.grid.spacing);
     for v in 0..rows.z.len() {
         let (px, py) = (rows.x[v], rows.y[v]);
-        let c = Corners::around(px, py, surface);
-        let d = c.displacement(surface.grid);
+        let c = Corners::around(px, py, n, spacing);
+        let d = c.displacement(surface);
         rows.x[v] = px + d.x;
         rows.y[v] = py + d.y;
-        rows.z[v] = c.of(|m| &m.z);
-        let normal =
-            Vec3::new(c.of(|m| &m.nx), c.of(|m| &m.ny), c.of(|m| &m.nz)).normalize_or(Vec3::Z);
+        rows.z[v] = c.of(&surface.z);
+        let normal = Vec3::new(c.of(&surface.nx), c.of(&surface.ny), c.of(&surface.nz))
+            .normalize_or(Vec3::Z);
         rows.nx[v] = normal.x;
         rows.ny[v] = normal.y;
         rows.nz[v] = normal.z;
         if !rows.fold.is_empty() {
-            rows.fold[v] = c.of(|m| &m.fold);
-            let dir = Vec2::new(c.of(|m| &m.fold_dx), c.of(|m| &m.fold_dy))
+            rows.fold[v] = c.of(&surface.fold);
+            let dir = Vec2::new(c.of(&surface.fold_dx), c.of(&surface.fold_dy))
                 .try_normalize()
                 .unwrap_or(Vec2::Y);
             rows.fold_dx[v] = dir.x;

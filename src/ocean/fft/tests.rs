@@ -327,48 +327,6 @@ fn bands_stepped_phase_by_phase_give_the_whole_step_bit_for_bit() {
     }
 }
 
-/// Helpers sharing a projected step's patch (each transforms its band of it, then samples its
-/// mesh rows from every band) give one helper's mesh bit for bit, at points off the patch too.
-#[test]
-fn projected_bands_sharing_the_patch_give_the_whole_step_bit_for_bit() {
-    let params = OceanParams::default();
-    for kernel in [Kernel::Reference, Kernel::Fast] {
-        for (n, bands) in [
-            (16, vec![0..5, 5..11, 11..16]),
-            (32, vec![0..1, 1..31, 31..32]),
-            (32, vec![0..16, 16..32]),
-        ] {
-            let grid = Grid::new(n, 0.5).unwrap();
-            let whole = FftOcean.prepare_at_points(grid, &params, kernel).unwrap();
-            let mut placed = FftOcean.mesh(grid);
-            // Points over several tiles of the patch, negative ones included.
-            for v in 0..n * n {
-                let (i, j) = ((v / n) as f32, (v % n) as f32);
-                placed.x[v] = -300.0 + 37.3 * j + 3.1 * i;
-                placed.y[v] = -200.0 + 29.9 * i - 1.7 * j;
-            }
-            let mut split = whole.split(&bands);
-            assert!(split.iter().all(|s| s.phases() == 3));
-            let mut whole = whole;
-            for t in [0.5f32, 3.0] {
-                let mut want = placed.clone();
-                whole.step(t, &mut want);
-                let mut got = placed.clone();
-                for phase in 0..3 {
-                    for (stepper, band) in split.iter_mut().zip(&bands) {
-                        stepper.step_phase(phase, t, got.rows_mut(band.clone()));
-                    }
-                }
-                assert!(got.z.iter().any(|&z| z != 0.0), "the surface moves");
-                assert!(
-                    got == want,
-                    "{kernel} {bands:?} t = {t}: the banded mesh differs"
-                );
-            }
-        }
-    }
-}
-
 /// The `fast` kernel's mesh beside the `reference` kernel's at the same (n, t, λ): the largest
 /// and the 99th-percentile angle between their normals in degrees, the largest |ΔJ|.
 fn fast_against_reference(n: usize, t: f32, params: &FftParams) -> (f64, f64, f64) {
