@@ -142,6 +142,17 @@ fn an_interrupted_sweep_keeps_finished_rows_and_resumes_to_the_same_cells() {
     assert_eq!(saved.as_ref().unwrap().cells.len(), 6);
     let resumed = Sweep::resume(partial.clone()).unwrap();
     assert_eq!(resumed.keys().len(), all.len() - 6);
+    // A file an older build wrote, or one that says it finished, is resumed as this build's
+    // and unfinished until the resumed rows are done.
+    let mut older = partial.clone();
+    older.schema_version = 1;
+    older.finished = Some("2026-01-01T00:00:00Z".into());
+    let again = Sweep::resume(older).unwrap();
+    assert_eq!(
+        again.results.schema_version,
+        oceanbench::results::SCHEMA_VERSION
+    );
+    assert!(again.results.finished.is_none());
     let done = resumed.run(&mut ());
     assert!(done.finished.is_some());
     let mut got: Vec<&CellKey> = done.cells.iter().map(|c| &c.key).collect();
