@@ -290,3 +290,99 @@ fn fog_micros_beyond_the_largest_volume_are_refused() {
         e.0
     );
 }
+
+/// One cell, UP, atomic: the smallest sweep that runs a helper.
+fn one_cell(name: &str) -> SweepConfig {
+    let base = tiny(name);
+    SweepConfig {
+        axes: Axes {
+            sizes: vec![6],
+            workloads: vec![0],
+            modes: vec![Mode::Up],
+            sync: vec![SyncMethod::Atomic],
+            ..base.axes.clone()
+        },
+        trials: 1,
+        ..base
+    }
+}
+
+#[test]
+fn a_sweep_stopping_on_a_raised_flag_measures_nothing_and_stays_unfinished() {
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(true));
+    let s = Sweep::prepare(tiny("stopped")).unwrap().stopping_on(stop);
+    let mut trials = 0;
+    struct Count<'a>(&'a mut usize);
+    impl Observer for Count<'_> {
+        fn trial_starting(&mut self, _: Progress<'_>) {
+            *self.0 += 1;
+        }
+    }
+    let results = s.run(&mut Count(&mut trials));
+    assert!(
+        results.finished.is_none(),
+        "a stopped sweep is not finished"
+    );
+    assert!(
+        results.cells.iter().all(|c| c.summary.is_none()),
+        "no cell measured after the stop: {} cells, {trials} trials started",
+        results.cells.len()
+    );
+}
+
+#[test]
+fn a_tracing_sweep_writes_one_trace_per_chosen_cell() {
+    use oceanbench::trace::{CellFilter, Target, TracePlan};
+    let dir = tempfile::tempdir().unwrap();
+    let traces = dir.path().join("traces");
+    let plan = TracePlan::new(Target::Dir(traces.clone()), CellFilter::default(), 4).unwrap();
+    let config = one_cell("traced");
+    let key = sweep::cells(&config).remove(0);
+    let results = Sweep::prepare(config)
+        .unwrap()
+        .tracing(plan.clone())
+        .run(&mut ());
+    assert!(results.finished.is_some());
+    let path = plan.path_for(&key);
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{} not written: {e}", path.display()));
+    let trace: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert!(trace.is_object() || trace.is_array(), "a JSON trace");
+    assert_eq!(std::fs::read_dir(&traces).unwrap().count(), 1);
+}
+
+#[test]
+fn a_latest_cell_records_its_mailbox_and_a_fifo_cell_none() {
+    use oceanbench::sync::Policy;
+    let base = one_cell("mailbox");
+    let config = SweepConfig {
+        axes: Axes {
+            policy: vec![Policy::Fifo, Policy::Latest],
+            sync: vec![SyncMethod::TripleBuffer, SyncMethod::Atomic],
+            ..base.axes.clone()
+        },
+        ..base
+    };
+    let results = Sweep::prepare(config).unwrap().run(&mut ());
+    let threaded: Vec<_> = results
+        .cells
+        .iter()
+        .filter(|c| c.key.mode != Mode::Serial)
+        .collect();
+    assert!(threaded
+        .iter()
+        .any(|c| c.key.policy == Some(Policy::Latest)));
+    assert!(threaded.iter().any(|c| c.key.policy == Some(Policy::Fifo)));
+    for cell in threaded {
+        let summary = cell.summary.as_ref().expect("measured");
+        let latest = cell.key.policy == Some(Policy::Latest);
+        assert_eq!(summary.mailbox.is_some(), latest, "{}", cell.key.label());
+        if let Some(m) = &summary.mailbox {
+            assert_eq!(
+                m.consumed.len(),
+                summary.fps_trials.len(),
+                "a run of frames per trial"
+            );
+        }
+    }
+}
