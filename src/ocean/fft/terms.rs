@@ -87,8 +87,8 @@ impl Terms {
     pub fn spectra(&self, t: f32, rows: Range<usize>, out: &mut [&mut [Complex<f32>]]) {
         #[cfg(target_arch = "x86_64")]
         {
-            if is_x86_feature_detected!("avx512f") {
-                // SAFETY: the CPU has AVX-512F, checked above.
+            if is_x86_feature_detected!("avx512f") && is_x86_feature_detected!("avx512dq") {
+                // SAFETY: the CPU has AVX-512F and DQ, checked above.
                 return unsafe { self.spectra_avx512(t, rows, out) };
             }
             if is_x86_feature_detected!("avx2") {
