@@ -144,3 +144,110 @@ pub fn check_helpers(
     }
     model.splits_into_rows(normals)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ocean::sines::Sines;
+
+    /// The refusal's field, the text before its first colon ("depth", "helpers", ...).
+    fn field<T>(r: Result<T, InputError>) -> Option<String> {
+        r.err()
+            .map(|e| e.0.split(':').next().unwrap_or_default().to_string())
+    }
+
+    #[test]
+    fn two_cores_for_dp_one_otherwise() {
+        assert_eq!(Mode::Dp.cores_needed(), 2);
+        assert_eq!(Mode::Up.cores_needed(), 1);
+        assert_eq!(Mode::Serial.cores_needed(), 1);
+    }
+
+    #[test]
+    fn depth_is_1_to_the_most_and_above_1_only_with_a_pool() {
+        let depth = Some("depth".to_string());
+        assert_eq!(field(check_depth(0, Threading::Pool)), depth);
+        for d in 1..=MAX_DEPTH {
+            assert_eq!(check_depth(d, Threading::Pool), Ok(()), "depth {d}");
+        }
+        assert_eq!(field(check_depth(MAX_DEPTH + 1, Threading::Pool)), depth);
+        assert_eq!(check_depth(1, Threading::Spawn), Ok(()));
+        let err = check_depth(2, Threading::Spawn).unwrap_err().0;
+        assert!(
+            err.starts_with("depth: 2 slots need threading `pool`"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn latest_takes_one_pooled_helper_at_depth_1_and_fifo_anything() {
+        let (pool, spawn) = (Threading::Pool, Threading::Spawn);
+        let latest = |sync, depth, helpers, threading| {
+            field(check_policy(
+                Policy::Latest,
+                sync,
+                depth,
+                helpers,
+                threading,
+            ))
+        };
+        assert_eq!(latest(SyncMethod::TripleBuffer, 1, 1, pool), None);
+        assert_eq!(latest(SyncMethod::Atomic, 1, 1, pool), None);
+        assert_eq!(
+            latest(SyncMethod::Condvar, 1, 1, pool).as_deref(),
+            Some("sync")
+        );
+        assert_eq!(
+            latest(SyncMethod::Atomic, 2, 1, pool).as_deref(),
+            Some("depth")
+        );
+        assert_eq!(
+            latest(SyncMethod::Atomic, 1, 2, pool).as_deref(),
+            Some("helpers")
+        );
+        assert_eq!(
+            latest(SyncMethod::Atomic, 1, 1, spawn).as_deref(),
+            Some("threading")
+        );
+        let fifo = |sync, depth, helpers, threading| {
+            field(check_policy(Policy::Fifo, sync, depth, helpers, threading))
+        };
+        assert_eq!(fifo(SyncMethod::Condvar, 3, 2, spawn), None);
+        assert_eq!(
+            fifo(SyncMethod::TripleBuffer, 1, 1, pool).as_deref(),
+            Some("sync")
+        );
+    }
+
+    #[test]
+    fn helpers_are_1_to_the_most_at_least_a_row_each_in_a_pool() {
+        let (pool, spawn, a) = (Threading::Pool, Threading::Spawn, NormalMethod::Analytic);
+        let helpers = |n, mode, threading, normals, size| {
+            check_helpers(n, mode, threading, &Sines, normals, size)
+        };
+        let refused = Some("helpers".to_string());
+        assert_eq!(field(helpers(0, Mode::Dp, pool, a, 64)), refused);
+        assert_eq!(helpers(MAX_HELPERS, Mode::Dp, pool, a, MAX_HELPERS), Ok(()));
+        assert_eq!(
+            field(helpers(MAX_HELPERS + 1, Mode::Dp, pool, a, 128)),
+            refused
+        );
+        // One row each: as many helpers as rows, not one more.
+        assert_eq!(helpers(8, Mode::Up, pool, a, 8), Ok(()));
+        let err = helpers(9, Mode::Up, pool, a, 8).unwrap_err().0;
+        assert!(err.contains("need at least one row each"), "{err}");
+        // One helper runs anywhere; serial runs no helper, so its count is not checked further.
+        assert_eq!(helpers(1, Mode::Dp, spawn, NormalMethod::Lookup, 2), Ok(()));
+        assert_eq!(
+            helpers(4, Mode::Serial, spawn, NormalMethod::Lookup, 2),
+            Ok(())
+        );
+        let err = helpers(2, Mode::Dp, spawn, a, 64).unwrap_err().0;
+        assert!(err.contains("need threading `pool`"), "{err}");
+        // Whether rows split with these normals is the model's to say.
+        assert_eq!(
+            field(helpers(2, Mode::Dp, pool, NormalMethod::Neighbors, 64)),
+            refused
+        );
+    }
+}
