@@ -91,6 +91,21 @@ fn particles(c: &mut Criterion) {
                 BatchSize::LargeInput,
             )
         });
+        // The same pass on one pool kept warm, as the integration's benches run: every
+        // particle flies above the surface and younger than its lifetime, so none dies and
+        // the pool is the same at every iteration.
+        let mut warm = full_pool(n, patch);
+        group.bench_with_input(
+            BenchmarkId::new("kill pass, none dies, warm pool", n),
+            &n,
+            |b, &n| {
+                b.iter(|| {
+                    let killed = warm.kill(black_box(&surface), 2.0, 0..n);
+                    assert_eq!(killed, 0, "every particle flies above the sea");
+                    killed
+                })
+            },
+        );
         let mut spray = Spray::new(
             &WorkSpec {
                 kind: WorkloadKind::SPRAY,
