@@ -107,3 +107,66 @@ impl Runnable {
         self.values().map_err(Refusal::Value)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A threaded UP cell on the sines, its hand-off values given.
+    fn threaded(policy: Policy, sync: SyncMethod, depth: usize) -> Runnable {
+        Runnable {
+            size: 16,
+            ocean: OceanKind::SINES,
+            grid: GridKind::Regular,
+            normals: NormalMethod::Analytic,
+            kernel: Kernel::Reference,
+            workload_kind: WorkloadKind::SYNTHETIC,
+            mode: Mode::Up,
+            policy: Some(policy),
+            sync: Some(sync),
+            threading: Some(Threading::Pool),
+            helpers: Some(1),
+            depth: Some(depth),
+        }
+    }
+
+    #[test]
+    fn a_threaded_cell_is_a_combination_only_if_its_policy_takes_its_hand_off() {
+        let fine = threaded(Policy::Latest, SyncMethod::TripleBuffer, 1);
+        assert_eq!(fine.check(), Ok(()));
+        let wrong_method = threaded(Policy::Latest, SyncMethod::Condvar, 1);
+        assert!(
+            matches!(wrong_method.check(), Err(Refusal::Combination(e)) if e.0.starts_with("sync:")),
+            "{:?}",
+            wrong_method.check()
+        );
+        let deep = threaded(Policy::Latest, SyncMethod::Atomic, 2);
+        assert!(matches!(deep.combination(), Err(e) if e.0.starts_with("depth:")));
+        // A serial cell has no hand-off to check.
+        let serial = Runnable {
+            mode: Mode::Serial,
+            policy: None,
+            sync: None,
+            threading: None,
+            helpers: None,
+            depth: None,
+            ..wrong_method
+        };
+        assert_eq!(serial.check(), Ok(()));
+    }
+
+    #[test]
+    fn a_value_out_of_range_is_refused_as_a_value_not_a_combination() {
+        let too_many = Runnable {
+            helpers: Some(17),
+            ..threaded(Policy::Fifo, SyncMethod::Atomic, 1)
+        };
+        assert!(
+            matches!(too_many.check(), Err(Refusal::Value(e)) if e.0.starts_with("helpers:")),
+            "{:?}",
+            too_many.check()
+        );
+        let e = too_many.check().unwrap_err().error();
+        assert!(e.0.contains("at least one row each"), "{}", e.0);
+    }
+}
