@@ -6,12 +6,16 @@
 //! The camera is the default one (pitch 30°, fov 60°, height framing the patch), whose image's
 //! top edge lies on the horizon, so the far clamp is exercised too.
 //!
+//! `fft-projected` is the FFT ocean's step on each grid at the same N (reference kernel): the
+//! projected step computes the same patch and then samples it at every placed vertex, so the
+//! difference is the sampling.
+//!
 //! `flock /work/bench.lock cargo bench --bench projected -- --warm-up-time 1 --measurement-time 2`
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use oceanbench::camera::Camera;
 use oceanbench::ocean::sines::Sines;
-use oceanbench::ocean::{Grid, GridKind, Kernel, Model, NormalMethod, OceanParams};
+use oceanbench::ocean::{FftOcean, Grid, GridKind, Kernel, Model, NormalMethod, OceanParams};
 use oceanbench::projected;
 
 const SIZES: [usize; 4] = [40, 128, 256, 512];
@@ -61,5 +65,41 @@ fn steps(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, steps);
+fn fft(c: &mut Criterion) {
+    let params = OceanParams::default();
+    let mut group = c.benchmark_group("fft-projected");
+    group.sample_size(20);
+    for n in [256, 512] {
+        let spacing = FftOcean.rest_spacing(Grid::new(n, 1.0).unwrap(), &params);
+        let grid = Grid::new(n, spacing).unwrap();
+        group.throughput(Throughput::Elements(grid.vertices() as u64));
+        for (name, kind) in [
+            ("regular", GridKind::Regular),
+            ("projected", GridKind::Projected),
+        ] {
+            let mut ocean = projected::stepper(
+                kind,
+                &FftOcean,
+                grid,
+                &params,
+                NormalMethod::Analytic,
+                Kernel::Reference,
+                Camera::default(),
+            )
+            .unwrap();
+            let mut mesh = FftOcean.mesh(grid);
+            // A new time each iteration: the patch is computed once per time asked for.
+            let mut t = 0.0f32;
+            group.bench_function(BenchmarkId::new(name, n), |b| {
+                b.iter(|| {
+                    t += 1.0 / 64.0;
+                    ocean.step(black_box(t), &mut mesh)
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, steps, fft);
 criterion_main!(benches);
