@@ -13,11 +13,10 @@ use super::frames::FrameCounter;
 use super::timeline::{PhaseMarks, TRACED_PHASES};
 use super::{LoopError, LoopSpec};
 use crate::measure::FrameRecord;
-use crate::ocean::{Grid, Mesh, MeshRows, Stepper};
+use crate::ocean::{Mesh, MeshRows, SharedMesh, Stepper};
 use crate::sched;
 use crate::sync::{Handoff, Slot};
 use crate::workload::Work;
-use std::cell::UnsafeCell;
 use std::ops::Range;
 use std::time::{Duration, Instant};
 
@@ -61,84 +60,15 @@ pub(super) struct Part {
     phases: Option<Vec<Slot<PhaseMarks>>>,
 }
 
-/// One mesh of the ring, with the base pointers of its arrays, taken while the mesh was
-/// uniquely owned so helpers can make disjoint band slices without a `&mut Mesh` at once.
-struct MeshSlot {
-    mesh: UnsafeCell<Mesh>,
-    base: [*mut f32; 6],
-    /// The fold fields' base pointers, when the model's meshes carry them.
-    fold: Option<[*mut f32; 3]>,
-}
-
-impl MeshSlot {
-    fn new(mut mesh: Mesh) -> MeshSlot {
-        let fold = mesh.has_fold().then_some([
-            mesh.fold.as_mut_ptr(),
-            mesh.fold_dx.as_mut_ptr(),
-            mesh.fold_dy.as_mut_ptr(),
-        ]);
-        let base = [
-            mesh.x.as_mut_ptr(),
-            mesh.y.as_mut_ptr(),
-            mesh.z.as_mut_ptr(),
-            mesh.nx.as_mut_ptr(),
-            mesh.ny.as_mut_ptr(),
-            mesh.nz.as_mut_ptr(),
-        ];
-        MeshSlot {
-            mesh: UnsafeCell::new(mesh),
-            base,
-            fold,
-        }
-    }
-
-    /// The band `rows` of this slot's mesh of `grid`, every field it carries.
-    ///
-    /// # Safety
-    /// No other reference to these rows of the mesh is alive while the band is.
-    #[allow(clippy::mut_from_ref)]
-    unsafe fn rows(&self, grid: Grid, rows: Range<usize>) -> MeshRows<'_> {
-        assert!(rows.end <= grid.n, "rows {rows:?} outside 0..{}", grid.n);
-        let (start, len) = (rows.start * grid.n, rows.len() * grid.n);
-        let (base, fold) = (&self.base, self.fold);
-        // SAFETY: `start + len` is within the mesh's N² elements of every field the mesh
-        // carries, and the caller holds no other reference to these rows.
-        unsafe {
-            let write = |p: *mut f32| std::slice::from_raw_parts_mut(p.add(start), len);
-            let optional = |k: usize| fold.map_or(&mut [][..], |f| write(f[k]));
-            MeshRows {
-                grid,
-                first_row: rows.start,
-                x: write(base[0]),
-                y: write(base[1]),
-                z: write(base[2]),
-                nx: write(base[3]),
-                ny: write(base[4]),
-                nz: write(base[5]),
-                fold: optional(0),
-                fold_dx: optional(1),
-                fold_dy: optional(2),
-            }
-        }
-    }
-}
-
 /// The ring of `depth` meshes, each split among the helpers in bands of whole rows, with one
 /// ring hand-off per helper (so every sync method works unchanged for any helper count).
 pub(super) struct Shared {
-    slots: Vec<MeshSlot>,
+    slots: Vec<SharedMesh>,
     /// One per helper.
     pub parts: Vec<Part>,
     /// Where the helpers meet between the phases of a banded step.
     barrier: PhaseBarrier,
 }
-
-// SAFETY: the meshes and stamps are only touched under the ring protocol described at the top
-// of this file; helpers write disjoint rows. The raw pointers point into the meshes' buffers,
-// which are never resized.
-unsafe impl Sync for Shared {}
-// SAFETY: as above; the pointers are owned data of the meshes, which move with them.
-unsafe impl Send for Shared {}
 
 impl Shared {
     /// A ring of `spec.depth` meshes for `spec`'s grid, split evenly among `spec.helpers()`;
@@ -146,7 +76,7 @@ impl Shared {
     pub fn new(spec: &LoopSpec, traced: bool) -> Shared {
         let depth = spec.depth.max(1);
         let slots = (0..depth)
-            .map(|_| MeshSlot::new(spec.blank_mesh()))
+            .map(|_| SharedMesh::new(spec.blank_mesh()))
             .collect();
         let now = Instant::now();
         let blank = Stamp {
@@ -202,12 +132,7 @@ impl Shared {
     unsafe fn band(&self, s: usize, k: usize) -> MeshRows<'_> {
         let rows = self.parts[k].rows.clone();
         // SAFETY: bands partition the rows, and the caller's ring gave it this slot.
-        unsafe { self.slots[s].rows(self.grid(), rows) }
-    }
-
-    fn grid(&self) -> Grid {
-        // SAFETY: `grid` is never written after construction, so reading it races with nothing.
-        unsafe { (*self.slots[0].mesh.get()).grid }
+        unsafe { self.slots[s].rows(rows) }
     }
 }
 
@@ -230,7 +155,7 @@ pub(super) fn produce(
     let started = Instant::now();
     if shared.parts.len() == 1 {
         // SAFETY: the only helper owns the free slot, so nobody else touches its mesh.
-        ocean.step(t, unsafe { &mut *shared.slots[s].mesh.get() });
+        ocean.step(t, unsafe { &mut *shared.slots[s].get() });
     } else if ocean.phases() == 1 {
         // SAFETY: helper h owns its band of the free slot; other helpers only touch theirs.
         ocean.step_rows(t, unsafe { shared.band(s, h) });
@@ -304,7 +229,7 @@ pub(super) fn consume<F: FnMut(u64, &Mesh)>(
     let s = shared.slot_of(k);
     // SAFETY: every helper published frame k into slot s and none has it released, so no
     // helper writes it until this thread releases it below.
-    let mesh = unsafe { &*shared.slots[s].mesh.get() };
+    let mesh = unsafe { &*shared.slots[s].get() };
     let (consumed, read) = consume::apply(spec.consume, mesh, render);
     if let Some(sum) = read {
         frames.read(sum);
@@ -410,47 +335,4 @@ const STOP_CHECK: Duration = Duration::from_millis(50);
 /// Nanoseconds of a duration, as frame records keep them.
 pub(super) fn ns(d: Duration) -> u64 {
     d.as_nanos() as u64
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn bands_of_a_slot_reach_their_own_rows_of_every_field() {
-        let grid = Grid::new(4, 1.0).unwrap();
-        for fold in [false, true] {
-            let mesh = Mesh::new(grid);
-            let slot = MeshSlot::new(if fold { mesh.with_fold() } else { mesh });
-            // SAFETY: the two bands are disjoint and nothing else touches the mesh meanwhile.
-            let (a, b) = unsafe { (slot.rows(grid, 0..1), slot.rows(grid, 1..4)) };
-            assert_eq!((a.first_row, a.rows(), b.first_row, b.rows()), (0, 1, 1, 3));
-            assert_eq!(
-                (a.fold.len(), b.fold_dy.len()),
-                if fold { (4, 12) } else { (0, 0) }
-            );
-            for (band, value) in [(a, 1.0), (b, 2.0)] {
-                for field in [band.x, band.y, band.z, band.nx, band.ny, band.nz] {
-                    field.fill(value);
-                }
-                for field in [band.fold, band.fold_dx, band.fold_dy] {
-                    field.fill(value);
-                }
-            }
-            let mesh = slot.mesh.into_inner();
-            let want = |v: usize| if v < 4 { 1.0 } else { 2.0 };
-            let fields = [&mesh.x, &mesh.y, &mesh.z, &mesh.nx, &mesh.ny, &mesh.nz];
-            let optional = [&mesh.fold, &mesh.fold_dx, &mesh.fold_dy];
-            for field in fields
-                .into_iter()
-                .chain(fold.then_some(optional).into_iter().flatten())
-            {
-                assert!(
-                    field.iter().enumerate().all(|(v, &x)| x == want(v)),
-                    "{field:?}"
-                );
-            }
-            assert_eq!(mesh.has_fold(), fold);
-        }
-    }
 }

@@ -8,6 +8,7 @@ pub mod mesh;
 pub mod model;
 pub mod normals;
 pub mod phillips;
+pub mod shared_mesh;
 pub mod sines;
 pub mod waves;
 
@@ -17,4 +18,5 @@ pub use mesh::{Grid, Mesh, MeshRows};
 pub use model::{GridKind, Kernel, Model, OceanParams, Stepper};
 pub use normals::NormalMethod;
 pub use phillips::FftParams;
+pub use shared_mesh::SharedMesh;
 pub use waves::{Wave, WaveSet};
