@@ -17,6 +17,7 @@ use crate::input::InputError;
 use crate::ocean::{
     Grid, GridKind, Kernel, Mesh, MeshRows, Model, NormalMethod, OceanParams, Stepper,
 };
+use std::ops::Range;
 
 /// Refuses what the projected grid cannot run: normals other than `analytic` (face normals
 /// of a moving grid would need its neighbours' positions, and the stencil a regular spacing),
@@ -90,6 +91,33 @@ impl Stepper for Projected {
             camera: self.camera,
             surface: self.surface.boxed_clone(),
         })
+    }
+
+    fn phases(&self) -> usize {
+        self.surface.phases()
+    }
+
+    /// The model's phases, the band placed just before the last, which evaluates the model at
+    /// the placed points.
+    fn step_phase(&mut self, phase: usize, t: f32, mut rows: MeshRows<'_>) {
+        if phase + 1 == self.surface.phases() {
+            place(&self.camera.view_at(rows.grid, t), &mut rows);
+        }
+        self.surface.step_phase(phase, t, rows);
+    }
+
+    /// The model's own split (the FFT ocean's helpers share the patch), each placing its band.
+    fn split(&self, bands: &[Range<usize>]) -> Vec<Box<dyn Stepper>> {
+        self.surface
+            .split(bands)
+            .into_iter()
+            .map(|surface| {
+                Box::new(Projected {
+                    camera: self.camera,
+                    surface,
+                }) as Box<dyn Stepper>
+            })
+            .collect()
     }
 }
 

@@ -704,6 +704,7 @@ fn projected_meshes_are_bit_identical_in_every_mode_method_depth_and_helper_coun
         (OceanKind::SINES, Kernel::Reference, 9),
         (OceanKind::SINES, Kernel::Fast, 9),
         (OceanKind::FFT, Kernel::Reference, 16),
+        (OceanKind::FFT, Kernel::Fast, 16),
     ] {
         let grid = Grid::new(n, 0.75).unwrap();
         let mut serial = projected(Mode::Serial, SyncMethod::Atomic, Threading::Pool);

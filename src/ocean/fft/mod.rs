@@ -414,6 +414,16 @@ impl Stepper for FftState {
     }
 
     fn split(&self, bands: &[Range<usize>]) -> Vec<Box<dyn Stepper>> {
+        self.bands(bands)
+            .into_iter()
+            .map(|band| Box::new(band) as Box<dyn Stepper>)
+            .collect()
+    }
+}
+
+impl FftState {
+    /// The steppers of helpers that fill `bands` of the patch, sharing their row passes.
+    fn bands(&self, bands: &[Range<usize>]) -> Vec<FftBand> {
         let n = self.n;
         let shared = Arc::new(RowPasses {
             bands: bands.to_vec(),
@@ -431,12 +441,10 @@ impl Stepper for FftState {
             ..self.clone()
         };
         (0..bands.len())
-            .map(|band| {
-                Box::new(FftBand {
-                    whole: alone.clone(),
-                    band,
-                    shared: Arc::clone(&shared),
-                }) as Box<dyn Stepper>
+            .map(|band| FftBand {
+                whole: alone.clone(),
+                band,
+                shared: Arc::clone(&shared),
             })
             .collect()
     }

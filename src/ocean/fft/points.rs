@@ -3,17 +3,26 @@
 //! the point the camera placed it, the patch repeating without a seam in both directions. The
 //! point is the vertex's rest position: it moves by the sampled choppy displacement and takes
 //! the sampled height, normal and fold, as a regular-grid vertex does at its own rest position.
+//!
+//! Helpers sharing a projected mesh share the patch too ([`FftAtPoints`]'s `split`): each
+//! transforms and fills its band of the patch's rows as on the regular grid, and after the
+//! phase barrier samples its band of the mesh from the whole patch.
 
-use super::FftState;
+use super::{FftBand, FftState};
 use crate::ocean::mesh::{Grid, Mesh, MeshRows};
 use crate::ocean::model::Stepper;
+use crate::ocean::shared_mesh::SharedMesh;
 use glam::{Vec2, Vec3};
+use parking_lot::RwLock;
+use std::ops::Range;
+use std::sync::Arc;
 
 /// The patch's surface at the last time asked for, and the state that computes it.
 #[derive(Clone, Debug)]
 pub struct FftAtPoints {
     state: FftState,
-    surface: Mesh,
+    /// Every row of the patch (made on first use: a state split among helpers never needs it).
+    surface: Option<Mesh>,
     /// The time `surface` was computed for (bits of the f32), so that the bands one helper
     /// fills for one frame share one transform.
     at: Option<u32>,
@@ -22,20 +31,29 @@ pub struct FftAtPoints {
 impl FftAtPoints {
     /// Samples the surface `state` computes; `state` fills analytic normals.
     pub fn new(state: FftState) -> Self {
-        let grid = Grid::new(state.n, state.spacing()).expect("a checked size");
         FftAtPoints {
             state,
-            surface: Mesh::new(grid).with_fold(),
+            surface: None,
             at: None,
         }
     }
 
+    /// The patch's grid, and a blank surface of it.
+    fn patch(&self) -> (Grid, Mesh) {
+        let grid = Grid::new(self.state.n, self.state.spacing()).expect("a checked size");
+        (grid, Mesh::new(grid).with_fold())
+    }
+
     fn surface_at(&mut self, t: f32) -> &Mesh {
+        if self.surface.is_none() {
+            self.surface = Some(self.patch().1);
+        }
+        let surface = self.surface.as_mut().expect("made above");
         if self.at != Some(t.to_bits()) {
-            self.state.step(t, &mut self.surface);
+            self.state.step(t, surface);
             self.at = Some(t.to_bits());
         }
-        &self.surface
+        surface
     }
 }
 
@@ -45,15 +63,120 @@ impl Stepper for FftAtPoints {
         self.step_rows(t, mesh.rows_mut(0..n));
     }
 
-    /// Every band computes the whole patch (a projected vertex may sample any part of it), so
-    /// helpers splitting a projected mesh each transform the patch: the same bits as one
-    /// helper, no faster.
+    /// Computes the whole patch (a projected vertex may sample any part of it): helpers
+    /// sharing a mesh step the phases of `split`'s band steppers instead.
     fn step_rows(&mut self, t: f32, rows: MeshRows<'_>) {
         sample(self.surface_at(t), rows);
     }
 
     fn boxed_clone(&self) -> Box<dyn Stepper> {
         Box::new(self.clone())
+    }
+
+    /// Helper h of H transforms and fills rows h·N/H..(h + 1)·N/H of the patch, whatever band
+    /// of the projected mesh it samples.
+    fn split(&self, bands: &[Range<usize>]) -> Vec<Box<dyn Stepper>> {
+        let ((grid, surface), h) = (self.patch(), bands.len());
+        let rows: Vec<Range<usize>> = (0..h)
+            .map(|k| k * grid.n / h..(k + 1) * grid.n / h)
+            .collect();
+        let shared = Arc::new(SharedPatch {
+            surface: SharedMesh::new(surface),
+            locks: rows.iter().map(|_| RwLock::new(())).collect(),
+            rows: rows.clone(),
+        });
+        let alone = FftAtPoints::new(self.state.clone());
+        self.state
+            .bands(&rows)
+            .into_iter()
+            .enumerate()
+            .map(|(band, patch)| {
+                Box::new(PointsBand {
+                    alone: alone.clone(),
+                    patch,
+                    band,
+                    shared: Arc::clone(&shared),
+                }) as Box<dyn Stepper>
+            })
+            .collect()
+    }
+}
+
+/// The patch that helpers sharing a projected mesh fill together: rows `rows[h]` by helper h
+/// in phase 1, the whole patch read by every helper in phase 2. Every access holds the locks of
+/// the rows it touches (a band's for writing it, every band's for reading the patch), so a
+/// misordered use waits rather than races; the frame loop's barrier orders the phases, so the
+/// locks are never contended.
+#[derive(Debug)]
+struct SharedPatch {
+    surface: SharedMesh,
+    rows: Vec<Range<usize>>,
+    locks: Vec<RwLock<()>>,
+}
+
+impl SharedPatch {
+    /// Band `band`'s rows of the patch, to fill.
+    fn fill(&self, band: usize, f: impl FnOnce(MeshRows<'_>)) {
+        let _mine = self.locks[band].write();
+        // SAFETY: a band's rows are touched only under its lock, held here for writing.
+        f(unsafe { self.surface.rows(self.rows[band].clone()) })
+    }
+
+    /// The whole patch, to read.
+    fn read(&self, f: impl FnOnce(&Mesh)) {
+        let _all: Vec<_> = self.locks.iter().map(|lock| lock.read()).collect();
+        // SAFETY: every band's lock is held for reading, so no band is being written.
+        f(unsafe { &*self.surface.get() })
+    }
+}
+
+/// One helper's part of a projected FFT step split among helpers: phase 0 is its band of the
+/// patch's row pass, phase 1 that band's column pass and fill, phase 2 its band of the mesh
+/// sampled from the whole patch. Bit-identical to [`FftAtPoints::step`]: the patch's rows are
+/// [`FftBand`]'s, and each vertex samples the same values with the same operations.
+#[derive(Clone, Debug)]
+struct PointsBand {
+    /// The state for [`Stepper::step`] alone.
+    alone: FftAtPoints,
+    patch: FftBand,
+    band: usize,
+    shared: Arc<SharedPatch>,
+}
+
+impl Stepper for PointsBand {
+    fn step(&mut self, t: f32, mesh: &mut Mesh) {
+        self.alone.step(t, mesh);
+    }
+
+    fn step_rows(&mut self, t: f32, rows: MeshRows<'_>) {
+        self.alone.step_rows(t, rows);
+    }
+
+    fn boxed_clone(&self) -> Box<dyn Stepper> {
+        Box::new(self.clone())
+    }
+
+    fn phases(&self) -> usize {
+        3
+    }
+
+    fn step_phase(&mut self, phase: usize, t: f32, rows: MeshRows<'_>) {
+        // More helpers than the patch has rows: this one has none to fill.
+        let empty = self.shared.rows[self.band].is_empty();
+        match phase {
+            0 if !empty => self.patch.row_pass(t),
+            1 if !empty => {
+                let patch = &mut self.patch;
+                self.shared.fill(self.band, |mine| patch.column_pass(mine));
+            }
+            0 | 1 => {}
+            2 => self.shared.read(|surface| sample(surface, rows)),
+            _ => unreachable!("three phases"),
+        }
+    }
+
+    fn split(&self, bands: &[Range<usize>]) -> Vec<Box<dyn Stepper>> {
+        self.alone.split(bands)
     }
 }
 

@@ -327,6 +327,68 @@ fn bands_stepped_phase_by_phase_give_the_whole_step_bit_for_bit() {
     }
 }
 
+#[test]
+fn helpers_sharing_the_patch_sample_the_whole_step_s_bits() {
+    let params = FftParams::default();
+    let n = 16;
+    let spectrum = Spectrum::new(&params, n);
+    // Points anywhere on the plane: off the patch on every side, on its vertices, between them.
+    let m = 24;
+    let points = |mesh: &mut Mesh| {
+        for v in 0..m * m {
+            let (i, j) = ((v / m) as f32, (v % m) as f32);
+            mesh.x[v] = (j - 7.3) * 13.7 + i * 0.61;
+            mesh.y[v] = (i - 11.0) * 9.25 - j * 1.3;
+        }
+    };
+    let grid = Grid::new(m, 1.0).unwrap();
+    for kernel in [Kernel::Reference, Kernel::Fast] {
+        let state = FftState::with_kernel(
+            &spectrum,
+            params.patch_metres,
+            params.choppiness,
+            NormalMethod::Analytic,
+            kernel,
+        );
+        let mut whole = points::FftAtPoints::new(state);
+        // Three helpers; twenty, more than the patch has rows, so that some fill none of it.
+        for bands in [vec![0..5, 5..6, 6..24], (0..20).map(|k| k..k + 1).collect()] {
+            let bands: Vec<Range<usize>> = bands;
+            let mut split = whole.split(&bands);
+            assert!(split.iter().all(|s| s.phases() == 3));
+            for t in [0.5f32, 3.0] {
+                let mut want = FftOcean.mesh(grid);
+                points(&mut want);
+                whole.step(t, &mut want);
+                let mut got = FftOcean.mesh(grid);
+                points(&mut got);
+                for phase in 0..3 {
+                    for (stepper, band) in split.iter_mut().zip(&bands) {
+                        stepper.step_phase(phase, t, got.rows_mut(band.clone()));
+                    }
+                }
+                // Twenty bands leave the mesh's last rows to nobody.
+                let covered = bands.last().unwrap().end * m;
+                let same = |a: &[f32], b: &[f32]| a[..covered] == b[..covered];
+                assert!(
+                    same(&got.x, &want.x)
+                        && same(&got.y, &want.y)
+                        && same(&got.z, &want.z)
+                        && same(&got.nx, &want.nx)
+                        && same(&got.ny, &want.ny)
+                        && same(&got.nz, &want.nz)
+                        && same(&got.fold, &want.fold)
+                        && same(&got.fold_dx, &want.fold_dx)
+                        && same(&got.fold_dy, &want.fold_dy),
+                    "{kernel} {} bands t = {t}: the sampled mesh differs",
+                    bands.len()
+                );
+                assert!(want.z.iter().any(|&z| z != 0.0), "a surface with waves");
+            }
+        }
+    }
+}
+
 /// The `fast` kernel's mesh beside the `reference` kernel's at the same (n, t, λ): the largest
 /// and the 99th-percentile angle between their normals in degrees, the largest |ΔJ|.
 fn fast_against_reference(n: usize, t: f32, params: &FftParams) -> (f64, f64, f64) {
