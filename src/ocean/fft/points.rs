@@ -181,27 +181,44 @@ impl Stepper for PointsBand {
 }
 
 /// The four surface vertices around a point and their bilinear weights.
+#[derive(Clone, Copy, Default)]
 struct Corners {
     index: [usize; 4],
+    /// Each corner's rest position on the patch.
+    rest: [Vec2; 4],
     weight: [f32; 4],
 }
 
 impl Corners {
     /// Around (px, py) on a patch of n × n vertices `spacing` apart, repeating every n.
+    ///
+    /// No integer division, which would cost more than the rest of the sampling: the cell
+    /// wraps in f32, exact for cells below 2²⁴ in magnitude (the quotient by n rounds to the
+    /// right integer, and every product and difference is an integer below 2²⁴); beyond that a
+    /// point is clamped onto the patch, and the same operations give every helper the same
+    /// bits.
+    #[inline(always)]
     fn around(px: f32, py: f32, n: usize, spacing: f32) -> Corners {
+        let nf = n as f32;
         let wrap = |u: f32| {
             let cell = u.floor();
-            let i0 = (cell as i64).rem_euclid(n as i64) as usize;
-            (i0, (i0 + 1) % n, u - cell)
+            let turn = cell - (cell / nf).floor() * nf;
+            // `as` saturates: NaN gives 0, and the clamp keeps a far point on the patch.
+            let i0 = (turn as usize).min(n - 1);
+            let i1 = if i0 + 1 == n { 0 } else { i0 + 1 };
+            (i0, i1, u - cell)
         };
         let (j0, j1, a) = wrap(px / spacing);
         let (i0, i1, b) = wrap(py / spacing);
+        let rest = |i: usize, j: usize| Vec2::new(j as f32, i as f32) * spacing;
         Corners {
             index: [i0 * n + j0, i0 * n + j1, i1 * n + j0, i1 * n + j1],
+            rest: [rest(i0, j0), rest(i0, j1), rest(i1, j0), rest(i1, j1)],
             weight: [(1.0 - a) * (1.0 - b), a * (1.0 - b), (1.0 - a) * b, a * b],
         }
     }
 
+    #[inline(always)]
     fn of(&self, field: &[f32]) -> f32 {
         let [w0, w1, w2, w3] = self.weight;
         let [v0, v1, v2, v3] = self.index.map(|v| field[v]);
@@ -209,40 +226,103 @@ impl Corners {
     }
 
     /// The displacement of the surface's vertices from their rest positions, interpolated.
+    #[inline(always)]
     fn displacement(&self, surface: &Mesh) -> Vec2 {
-        let n = surface.grid.n;
-        let spacing = surface.grid.spacing;
         let mut d = Vec2::ZERO;
-        for (&v, &w) in self.index.iter().zip(&self.weight) {
-            let rest = Vec2::new((v % n) as f32, (v / n) as f32) * spacing;
+        for ((&v, &rest), &w) in self.index.iter().zip(&self.rest).zip(&self.weight) {
             d += w * (Vec2::new(surface.x[v], surface.y[v]) - rest);
         }
         d
     }
 }
 
-/// Fills a band whose x, y hold the placed points from the patch's `surface`.
+/// Fills a band whose x, y hold the placed points from the patch's `surface`, compiled for the
+/// widest instruction set the CPU has: the same IEEE operations on each (no fused multiply-add),
+/// so helpers agree bit for bit whichever runs; the sets give `floor` an instruction of its own
+/// where baseline x86-64 calls libm.
 fn sample(surface: &Mesh, rows: MeshRows<'_>) {
-    let (n, spacing) = (surface.grid.n, surface.grid.spacing);
-    for v in 0..rows.z.len() {
-        let (px, py) = (rows.x[v], rows.y[v]);
-        let c = Corners::around(px, py, n, spacing);
-        let d = c.displacement(surface);
-        rows.x[v] = px + d.x;
-        rows.y[v] = py + d.y;
-        rows.z[v] = c.of(&surface.z);
-        let normal = Vec3::new(c.of(&surface.nx), c.of(&surface.ny), c.of(&surface.nz))
-            .normalize_or(Vec3::Z);
-        rows.nx[v] = normal.x;
-        rows.ny[v] = normal.y;
-        rows.nz[v] = normal.z;
-        if !rows.fold.is_empty() {
-            rows.fold[v] = c.of(&surface.fold);
-            let dir = Vec2::new(c.of(&surface.fold_dx), c.of(&surface.fold_dy))
-                .try_normalize()
-                .unwrap_or(Vec2::Y);
-            rows.fold_dx[v] = dir.x;
-            rows.fold_dy[v] = dir.y;
+    #[cfg(target_arch = "x86_64")]
+    {
+        if is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU has AVX-512F, checked above.
+            return unsafe { sample_avx512(surface, rows) };
         }
+        if is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2, checked above.
+            return unsafe { sample_avx2(surface, rows) };
+        }
+    }
+    sample_points(surface, rows)
+}
+
+/// `sample_points` compiled for AVX-512.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2")]
+fn sample_avx512(surface: &Mesh, rows: MeshRows<'_>) {
+    sample_points(surface, rows)
+}
+
+/// `sample_points` compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn sample_avx2(surface: &Mesh, rows: MeshRows<'_>) {
+    sample_points(surface, rows)
+}
+
+/// Vertices sampled together: each pass over them is short enough that the CPU keeps many
+/// vertices' loads in flight, where one vertex at a time waits on its own chain of a division,
+/// a floor, four scattered loads per field and a square root.
+const CHUNK: usize = 64;
+
+#[inline(always)]
+fn sample_points(surface: &Mesh, rows: MeshRows<'_>) {
+    let (n, spacing) = (surface.grid.n, surface.grid.spacing);
+    let fold = !rows.fold.is_empty();
+    let mut corners: [Corners; CHUNK] = std::array::from_fn(|_| Corners::default());
+    // Per vertex: displacement x and y, height, the normal's three parts, fold and its
+    // direction's two parts, as the corners give them.
+    let mut sampled = [[0.0f32; 9]; CHUNK];
+    let mut first = 0;
+    while first < rows.z.len() {
+        let chunk = first..(first + CHUNK).min(rows.z.len());
+        for (c, v) in corners.iter_mut().zip(chunk.clone()) {
+            *c = Corners::around(rows.x[v], rows.y[v], n, spacing);
+        }
+        for (c, out) in corners.iter().zip(&mut sampled).take(chunk.len()) {
+            let d = c.displacement(surface);
+            *out = [
+                d.x,
+                d.y,
+                c.of(&surface.z),
+                c.of(&surface.nx),
+                c.of(&surface.ny),
+                c.of(&surface.nz),
+                0.0,
+                0.0,
+                0.0,
+            ];
+            if fold {
+                out[6] = c.of(&surface.fold);
+                out[7] = c.of(&surface.fold_dx);
+                out[8] = c.of(&surface.fold_dy);
+            }
+        }
+        for (out, v) in sampled.iter().zip(chunk.clone()) {
+            let [dx, dy, z, nx, ny, nz, j, fx, fy] = *out;
+            rows.x[v] += dx;
+            rows.y[v] += dy;
+            rows.z[v] = z;
+            let normal = Vec3::new(nx, ny, nz).normalize_or(Vec3::Z);
+            rows.nx[v] = normal.x;
+            rows.ny[v] = normal.y;
+            rows.nz[v] = normal.z;
+            if fold {
+                rows.fold[v] = j;
+                let dir = Vec2::new(fx, fy).try_normalize().unwrap_or(Vec2::Y);
+                rows.fold_dx[v] = dir.x;
+                rows.fold_dy[v] = dir.y;
+            }
+        }
+        first = chunk.end;
     }
 }
