@@ -7,11 +7,17 @@
 //! - `fog-blur/N`: the three-pass binomial blur of an N³ volume (default width 5) beside three
 //!   read-and-write passes over the same bytes (a copy from one buffer to the other and back).
 //!   Throughput is the volume's bytes. Target: blur ≤ 2 × the copies.
+//! - `fog-coefficients/N`: the coefficient of every vertex of an N×N sines mesh from a 64³
+//!   volume (a trilinear wrapped lookup, a distance and an exponential each). Throughput is in
+//!   vertices. Target: ≤ 3 ns a vertex.
 //!
 //! `cargo bench --bench fog -- --quick`; docs/fog.md has the numbers.
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use noise::{NoiseFn, Perlin};
+use oceanbench::ocean::sines::Sines;
+use oceanbench::ocean::{Grid, Kernel, Model, NormalMethod, OceanParams};
+use oceanbench::workload::fog::coefficient::{self, View};
 use oceanbench::workload::fog::{blur, noise as fast, Fog, FogParams};
 
 fn noise(c: &mut Criterion) {
@@ -70,5 +76,45 @@ fn blur_vs_copy(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, noise, blur_vs_copy);
+fn coefficients(c: &mut Criterion) {
+    let mut group = c.benchmark_group("fog-coefficients");
+    let n = 64;
+    let volume: Vec<f32> = (0..n * n * n).map(|i| ((i as f32) * 0.37).sin()).collect();
+    for size in [256usize, 512] {
+        let grid = Grid::new(size, 1.0).unwrap();
+        let mut mesh = Sines.mesh(grid);
+        Sines
+            .prepare(
+                grid,
+                &OceanParams::default(),
+                NormalMethod::Analytic,
+                Kernel::Fast,
+            )
+            .unwrap()
+            .step(1.5, &mut mesh);
+        let width = size as f32;
+        let view = View {
+            eye: glam::Vec3::new(width / 2.0, -width / 2.0, width / 4.0),
+            width,
+            density: FogParams::default().density,
+        };
+        let mut out = vec![0.0f32; grid.vertices()];
+        group.throughput(Throughput::Elements(grid.vertices() as u64));
+        group.bench_with_input(BenchmarkId::new("fill", size), &size, |bench, _| {
+            bench.iter(|| {
+                coefficient::fill(
+                    &mesh,
+                    0..grid.vertices(),
+                    black_box(&volume),
+                    n,
+                    &view,
+                    &mut out,
+                )
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, noise, blur_vs_copy, coefficients);
 criterion_main!(benches);
