@@ -63,3 +63,51 @@ impl Grid {
         tris
     }
 }
+
+/// The cell holding coordinate `u` (in cells) of a grid that repeats every `n` cells, the cell
+/// after it, and how far into the cell `u` lies: for bilinear and trilinear lookups of a
+/// repeating patch or volume.
+///
+/// The cell wraps in f32 rather than by integer division, which would cost more than the rest
+/// of a lookup: exact for cells below 2²⁴ in magnitude (the quotient by n rounds to the right
+/// integer, and every product and difference is an integer below 2²⁴); beyond, the cell is
+/// clamped into 0..n. NaN gives cell 0. The same operations on every instruction set.
+#[inline(always)]
+pub fn periodic_cell(u: f32, n: usize) -> (usize, usize, f32) {
+    let nf = n as f32;
+    let cell = u.floor();
+    // `as` saturates (NaN to 0), and the clamp keeps a far cell in range.
+    let i0 = ((cell - (cell / nf).floor() * nf) as usize).min(n - 1);
+    let i1 = if i0 + 1 == n { 0 } else { i0 + 1 };
+    (i0, i1, u - cell)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_periodic_cell_is_the_integer_remainder_below_2_to_the_24() {
+        let far = 1i64 << 24;
+        for n in [2usize, 3, 7, 64, 100, 2048] {
+            let edges = [-far + 1, far - 1, -far + 2, 12_345_677, -9_999_991];
+            for c in (-5000i64..5000).chain(edges) {
+                let want = c.rem_euclid(n as i64) as usize;
+                for frac in [0.0f32, 0.25] {
+                    let u = c as f32 + frac;
+                    if (u - u.floor()) != frac {
+                        continue; // no fraction left at this magnitude
+                    }
+                    let (i0, i1, f) = periodic_cell(u, n);
+                    assert_eq!(i0, want, "n {n}, cell {c}");
+                    assert_eq!(i1, (want + 1) % n, "n {n}, cell {c}");
+                    assert_eq!(f, frac);
+                }
+            }
+            for u in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 1e30, -1e30] {
+                let (i0, i1, _) = periodic_cell(u, n);
+                assert!(i0 < n && i1 < n, "n {n}, u {u}: {i0}, {i1}");
+            }
+        }
+    }
+}

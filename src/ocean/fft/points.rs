@@ -9,6 +9,7 @@
 //! phase barrier samples its band of the mesh from the whole patch.
 
 use super::{FftBand, FftState};
+use crate::grid::periodic_cell;
 use crate::ocean::mesh::{Grid, Mesh, MeshRows};
 use crate::ocean::model::Stepper;
 use crate::ocean::shared_mesh::SharedMesh;
@@ -191,23 +192,9 @@ struct Corners {
 
 impl Corners {
     /// Around (px, py) on a patch of n × n vertices `spacing` apart, repeating every n.
-    ///
-    /// No integer division, which would cost more than the rest of the sampling: the cell
-    /// wraps in f32, exact for cells below 2²⁴ in magnitude (the quotient by n rounds to the
-    /// right integer, and every product and difference is an integer below 2²⁴); beyond that a
-    /// point is clamped onto the patch, and the same operations give every helper the same
-    /// bits.
     #[inline(always)]
     fn around(px: f32, py: f32, n: usize, spacing: f32) -> Corners {
-        let nf = n as f32;
-        let wrap = |u: f32| {
-            let cell = u.floor();
-            let turn = cell - (cell / nf).floor() * nf;
-            // `as` saturates: NaN gives 0, and the clamp keeps a far point on the patch.
-            let i0 = (turn as usize).min(n - 1);
-            let i1 = if i0 + 1 == n { 0 } else { i0 + 1 };
-            (i0, i1, u - cell)
-        };
+        let wrap = |u: f32| periodic_cell(u, n);
         let (j0, j1, a) = wrap(px / spacing);
         let (i0, i1, b) = wrap(py / spacing);
         let rest = |i: usize, j: usize| Vec2::new(j as f32, i as f32) * spacing;

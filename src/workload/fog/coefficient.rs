@@ -9,6 +9,8 @@
 //! one edge per patch width, its middle at the still sea, and is sampled trilinearly with
 //! wrap-around, as a GPU samples a 3-D texture in wrap mode.
 
+use super::isa::{self, Isa};
+use crate::grid::periodic_cell;
 use crate::ocean::Mesh;
 use glam::Vec3;
 
@@ -28,13 +30,15 @@ pub const FLOOR: f32 = 0.001;
 
 /// The coefficient for a vertex at normalised distance `d` and height difference `dy` (both in
 /// patch widths) through noise `n` ∈ [0, 1].
+#[inline(always)]
 pub fn coefficient(density: f32, d: f32, dy: f32, n: f32) -> f32 {
     let falloff = n * dy * dy / 2.0 + FLOOR;
     (-density * d * falloff).exp()
 }
 
 /// Writes the coefficient of every vertex of `mesh` into `out` for vertices `range`, sampling
-/// the `n`³ blurred `volume` (x fastest).
+/// the `n`³ blurred `volume` (x fastest), compiled for the widest instruction set the CPU has
+/// ([`isa`]): the same IEEE operations and the same `exp` on each.
 pub fn fill(
     mesh: &Mesh,
     range: std::ops::Range<usize>,
@@ -43,35 +47,69 @@ pub fn fill(
     view: &View,
     out: &mut [f32],
 ) {
-    let inv = 1.0 / view.width;
-    let scale = n as f32 * inv;
-    let (x, y, z) = (
-        &mesh.x[range.clone()],
-        &mesh.y[range.clone()],
-        &mesh.z[range],
-    );
-    for (i, f) in out.iter_mut().enumerate() {
-        let p = Vec3::new(x[i], y[i], z[i]);
-        let s = sample(
+    isa::run(
+        Isa::detect(),
+        Coefficients {
+            mesh,
+            range,
             volume,
             n,
-            p.x * scale,
-            p.y * scale,
-            (p.z * inv + 0.5) * scale,
+            view,
+            out,
+        },
+    )
+}
+
+/// The coefficient loop, compiled per instruction set.
+struct Coefficients<'a> {
+    mesh: &'a Mesh,
+    range: std::ops::Range<usize>,
+    volume: &'a [f32],
+    n: usize,
+    view: &'a View,
+    out: &'a mut [f32],
+}
+
+impl isa::Loop for Coefficients<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let Coefficients {
+            mesh,
+            range,
+            volume,
+            n,
+            view,
+            out,
+        } = self;
+        let inv = 1.0 / view.width;
+        let scale = n as f32 * inv;
+        let (x, y, z) = (
+            &mesh.x[range.clone()],
+            &mesh.y[range.clone()],
+            &mesh.z[range],
         );
-        let d = (view.eye - p).length() * inv;
-        let dy = (view.eye.z - p.z) * inv;
-        *f = coefficient(view.density, d, dy, (s + 1.0) / 2.0);
+        for (i, f) in out.iter_mut().enumerate() {
+            let p = Vec3::new(x[i], y[i], z[i]);
+            let s = sample(
+                volume,
+                n,
+                p.x * scale,
+                p.y * scale,
+                (p.z * inv + 0.5) * scale,
+            );
+            let d = (view.eye - p).length() * inv;
+            let dy = (view.eye.z - p.z) * inv;
+            *f = coefficient(view.density, d, dy, (s + 1.0) / 2.0);
+        }
     }
 }
 
 /// The volume at voxel coordinates (u, v, w), trilinear, wrapping on every axis.
+#[inline(always)]
 fn sample(volume: &[f32], n: usize, u: f32, v: f32, w: f32) -> f32 {
-    let split = |c: f32| {
-        let f = c.floor();
-        let i = (f as i64).rem_euclid(n as i64) as usize;
-        (i, (i + 1) % n, c - f)
-    };
+    let split = |c: f32| periodic_cell(c, n);
     let ((x0, x1, fx), (y0, y1, fy), (z0, z1, fz)) = (split(u), split(v), split(w));
     let at = |x: usize, y: usize, z: usize| volume[(z * n + y) * n + x];
     let lerp = |a: f32, b: f32, t: f32| a + t * (b - a);
