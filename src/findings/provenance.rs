@@ -299,6 +299,69 @@ mod tests {
         );
     }
 
+    fn quick() -> Results {
+        serde_json::from_str(include_str!(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/fixtures/quick-results.json"
+        )))
+        .unwrap()
+    }
+
+    #[test]
+    fn a_run_s_placement_is_split_from_its_round_trips_not_taken_from_the_file() {
+        // The fixture predates recorded splits: the provenance splits its round trips itself,
+        // and says what a file that recorded that split would.
+        let unrecorded = quick();
+        assert_eq!(unrecorded.placement, None);
+        let split = run_placement::split(&unrecorded);
+        assert!(split.is_some(), "the fixture has round trips");
+        let recorded = Results {
+            placement: split.clone(),
+            ..unrecorded.clone()
+        };
+        let (a, b) = (
+            Provenance::of(&unrecorded, Vec::new()),
+            Provenance::of(&recorded, Vec::new()),
+        );
+        assert_eq!(a.placement.split, split);
+        assert!(a.placement.summary.is_some());
+        assert_eq!(a.placement, b.placement);
+        // A stale recorded split does not win over the round trips either.
+        let stale = Results {
+            placement: Split::of([20.0, 21.0, 22.0, 900.0, 910.0, 920.0]),
+            ..recorded
+        };
+        assert_ne!(stale.placement, split);
+        assert_eq!(Provenance::of(&stale, Vec::new()).placement, b.placement);
+    }
+
+    #[test]
+    fn a_config_hash_is_sixteen_hex_digits_of_the_config_alone() {
+        let results = quick();
+        let hash = config_hash(&results);
+        assert_eq!(hash.len(), 16, "{hash}");
+        assert!(hash
+            .chars()
+            .all(|c| c.is_ascii_hexdigit() && !c.is_ascii_uppercase()));
+        // The cells and the machine are not the config.
+        let other_run = Results {
+            cells: Vec::new(),
+            started: "2020-01-01T00:00:00Z".into(),
+            ..results.clone()
+        };
+        assert_eq!(config_hash(&other_run), hash);
+        let mut renamed = results.clone();
+        renamed.config.name.push('2');
+        assert_ne!(config_hash(&renamed), hash);
+        let mut longer = results;
+        longer.config.trials += 1;
+        assert_ne!(config_hash(&longer), hash);
+        assert_eq!(
+            Provenance::of(&longer, Vec::new()).config.hash,
+            config_hash(&longer)
+        );
+    }
+
     #[test]
     fn a_trial_that_moved_is_mixed_and_one_without_round_trips_unplaced() {
         let mut results: Results = serde_json::from_str(include_str!(concat!(
