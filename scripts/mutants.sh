@@ -165,13 +165,15 @@ for name in modules:
     # A survivor the retest caught was killed by a test written after the module's run.
     retest = out / f"{name}-retest"
     retest_commit = (retest / "commit").read_text().split()[0] if (retest / "commit").exists() else None
-    # Matched without line and column (a new test may move them): a survivor is caught on
-    # retest when every mutant of its name the retest ran was caught.
-    killed_later = {key(s) for s in lines(retest / "caught.txt")} - {
+    # Matched at its line and column when the retest ran it there; otherwise without them (a
+    # new test may move them), and then only when every mutant of its name the retest ran was
+    # caught: several mutants share a name, and one left alive keeps them all counted alive.
+    caught_exact = set(lines(retest / "caught.txt"))
+    killed_later = {key(s) for s in caught_exact} - {
         key(s) for s in lines(retest / "missed.txt") + lines(retest / "timeout.txt")}
     survivors = []
     for s in missed + timeout:
-        if key(s) in killed_later:
+        if s in caught_exact or key(s) in killed_later:
             survivors.append({"mutant": s, "caught_on_retest": retest_commit, "equivalent": None})
         else:
             survivors.append({"mutant": s, "equivalent": equivalent.get(key(s))})
