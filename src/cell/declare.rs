@@ -361,3 +361,81 @@ macro_rules! dimensions {
     };
 }
 pub(crate) use dimensions;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cell::{CellKey, Dim, Mode, Threading};
+    use crate::ocean::{Kernel, NormalMethod};
+    use crate::sync::SyncMethod;
+
+    /// The dimensions without a quiet value, at the paper's settings.
+    fn loud(dim: Dim) -> Option<Value> {
+        match dim {
+            Dim::Threading => Some(Threading::Pool.value()),
+            Dim::Normals => Some(NormalMethod::Neighbors.value()),
+            Dim::Kernel => Some(Kernel::Reference.value()),
+            _ => None,
+        }
+    }
+
+    #[test]
+    fn a_count_round_trips_and_has_no_fixed_names() {
+        assert_eq!(<usize as DimValue>::from_value(Value::Count(96)), Some(96));
+        assert_eq!(<usize as DimValue>::from_value(Value::Name("dp")), None);
+        assert_eq!(<usize as DimValue>::parse("96"), Ok(96));
+        let err = <usize as DimValue>::parse("-1").unwrap_err().0;
+        assert_eq!(err, "`-1` is not a whole number >= 0");
+        assert_eq!(<usize as DimValue>::names(), None);
+        assert_eq!(Dim::Size.names(), None, "any size may be asked for");
+        let modes = Dim::Mode.names().expect("modes are a fixed set");
+        assert!(
+            modes.contains(&"dp") && modes.contains(&"serial"),
+            "{modes:?}"
+        );
+    }
+
+    #[test]
+    fn a_slot_keeps_what_it_stores() {
+        assert_eq!(<usize as Slot<usize>>::get(&40), Some(40));
+        assert_eq!(<usize as Slot<usize>>::store(Some(40)), Some(40));
+        assert_eq!(
+            <usize as Slot<usize>>::store(None),
+            None,
+            "a plain field needs a value"
+        );
+        assert_eq!(<Option<usize> as Slot<usize>>::get(&Some(2)), Some(2));
+        assert_eq!(<Option<usize> as Slot<usize>>::get(&None), None);
+        assert_eq!(
+            <Option<usize> as Slot<usize>>::store(Some(2)),
+            Some(Some(2))
+        );
+        assert_eq!(<Option<usize> as Slot<usize>>::store(None), Some(None));
+    }
+
+    #[test]
+    fn a_key_gives_back_each_dimension_it_was_built_from() {
+        let dp = CellKey::from_fn(|dim| match dim {
+            Dim::Size => Some(Value::Count(96)),
+            Dim::Workload => Some(Value::Count(2)),
+            Dim::Mode => Some(Mode::Dp.value()),
+            Dim::Sync => Some(SyncMethod::Condvar.value()),
+            other => loud(other),
+        })
+        .expect("every other dimension has a quiet value");
+        assert_eq!(dp.get(Dim::Size), Some(Value::Count(96)));
+        assert_eq!(dp.get(Dim::Workload), Some(Value::Count(2)));
+        assert_eq!(dp.get(Dim::Sync), Some(Value::Name("condvar")));
+        assert_eq!(dp.sync, Some(SyncMethod::Condvar));
+        let serial = CellKey::from_fn(|dim| match dim {
+            Dim::Size => Some(Value::Count(40)),
+            Dim::Workload => Some(Value::Count(0)),
+            Dim::Mode => Some(Mode::Serial.value()),
+            Dim::Sync => Some(SyncMethod::Condvar.value()),
+            other => loud(other),
+        })
+        .expect("serial keys drop the hand-off");
+        assert_eq!(serial.get(Dim::Sync), None, "a serial cell has no hand-off");
+        assert_eq!(serial.get(Dim::Size), Some(Value::Count(40)));
+    }
+}
