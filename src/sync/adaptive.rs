@@ -41,6 +41,12 @@ const PROBE_EVERY: u64 = 64;
 const PROBE_NS: u64 = 2_000;
 /// A spin shorter than this has shrunk to nothing.
 const SHRUNK_NS: u64 = 100;
+/// How long a waiter woken ahead of the other side's change should spin before it comes: enough
+/// for a timer's jitter on a VM, little beside a frame.
+const AHEAD_NS: u64 = 4_000;
+/// Wake-ups ahead that missed in a row (the other side did not come within a spin, as on one
+/// core, where it cannot run while the waiter spins) before waking ahead stops until a probe.
+const AHEAD_MISSES: u64 = 4;
 
 /// The spin's bounds in polls, from this machine's poll rate.
 struct SpinBounds {
@@ -69,6 +75,21 @@ struct Phases {
     /// Whether this side's last wait was over at its first look: it is not waiting for the
     /// other side, which then has time to spare.
     unhurried: HintBool,
+    /// When a sleep for a side that is not waiting on this one should end, in ns from the start
+    /// of the wait, so that this side is spinning when the change comes; 0 until learnt.
+    wake_ns: HintU64,
+    /// Wake-ups ahead in a row whose spin the change did not come within.
+    wake_misses: HintU64,
+}
+
+/// How a sleep that was to end ahead of the other side's change went.
+enum Ahead {
+    /// The change came first and woke this side: `waited` ns into the wait.
+    Late { waited: u64 },
+    /// The change came `spun` ns into the spin after the wake-up.
+    Caught { spun: u64 },
+    /// The change did not come within the spin.
+    Missed { spun: u64 },
 }
 
 /// How a wait ended.
@@ -85,7 +106,33 @@ impl Phases {
             yield_ns: HintU64::new(100_000),
             waits: HintU64::new(0),
             unhurried: HintBool::new(false),
+            wake_ns: HintU64::new(0),
+            wake_misses: HintU64::new(0),
         }
+    }
+
+    /// How far into this wait a sleep should end so that the change finds this side spinning:
+    /// `None` while waking ahead keeps missing (one core), but for a probe now and then.
+    /// `Some(ZERO)` until a first sleep has been learnt from.
+    fn wake_after(&self) -> Option<Duration> {
+        let misses = self.wake_misses.load(Relaxed);
+        let probe = self.waits.load(Relaxed).is_multiple_of(PROBE_EVERY);
+        (misses < AHEAD_MISSES || probe).then(|| Duration::from_nanos(self.wake_ns.load(Relaxed)))
+    }
+
+    /// Moves the wake-up so that the change comes about [`AHEAD_NS`] into the spin after it:
+    /// back by an eighth of the wait when it came first, forward by half the error otherwise.
+    fn learn_ahead(&self, outcome: Ahead) {
+        let wake = self.wake_ns.load(Relaxed);
+        let misses = self.wake_misses.load(Relaxed);
+        let (wake, misses) = match outcome {
+            Ahead::Late { waited } if wake == 0 => (waited * 7 / 8, misses),
+            Ahead::Late { waited } => (wake.min(waited) * 7 / 8, misses),
+            Ahead::Caught { spun } => ((wake + spun / 2).saturating_sub(AHEAD_NS / 2), 0),
+            Ahead::Missed { spun } => (wake + spun, misses + 1),
+        };
+        self.wake_ns.store(wake, Relaxed);
+        self.wake_misses.store(misses, Relaxed);
     }
 
     /// Grows the phase that caught the wait, shrinks the ones it went past: `spun` polls were
@@ -230,13 +277,16 @@ impl AdaptiveRing {
         // The clock is read from here on only: a wait the spin caught never reads it.
         let spun = Instant::now();
         // Past the spin, polling only burns the core when the other side is not waiting on
-        // this one: a wake-up's delay then costs nobody a frame (the helper ahead of a busy main
-        // thread), so there is no yield phase.
-        let yield_ns = if other.unhurried.load(Relaxed) {
-            0
-        } else {
-            phases.yield_ns.load(Relaxed)
-        };
+        // this one (the helper ahead of a busy main thread): the wait sleeps, without a yield
+        // phase, but wakes ahead of the change, so that the other side, which would otherwise
+        // pay the wake-up in its frame, finds it spinning.
+        if other.unhurried.load(Relaxed) {
+            let started = spun - Duration::from_nanos(polls::to_ns(spin, self.bounds.per_us));
+            let outcome = self.sleep_ahead(phases, started, deadline, &ready);
+            phases.learn(&self.bounds, Phase::Sleep, spin, spun.elapsed());
+            return outcome;
+        }
+        let yield_ns = phases.yield_ns.load(Relaxed);
         let yield_until = (spun + Duration::from_nanos(yield_ns)).min(deadline);
         let (mut now, mut yields) = (spun, 0u32);
         // Under loom the phase is three looks whatever the clock says: a model must not depend on
@@ -260,11 +310,71 @@ impl AdaptiveRing {
         outcome
     }
 
+    /// Sleeps until shortly before the change is due, as `phases` learnt it from the waits
+    /// since `started`, then spins for it; sleeps on if it has not come within the spin.
+    fn sleep_ahead<T>(
+        &self,
+        phases: &Phases,
+        started: Instant,
+        deadline: Instant,
+        ready: &impl Fn(&Ring) -> Option<T>,
+    ) -> Result<T, TimedOut> {
+        let Some(after) = phases.wake_after() else {
+            return self.sleep(deadline, ready);
+        };
+        // The first such wait sleeps through and is learnt from (under loom, which has no time,
+        // every one wakes ahead, so that the model explores the path).
+        if after.is_zero() && !cfg!(loom) {
+            let v = self.sleep(deadline, ready)?;
+            let waited = started.elapsed().as_nanos() as u64;
+            phases.learn_ahead(Ahead::Late { waited });
+            return Ok(v);
+        }
+        precise_timers();
+        let wake = (started + after).min(deadline);
+        if let Some(v) = self.sleep_until(wake, deadline, ready)? {
+            let waited = started.elapsed().as_nanos() as u64;
+            phases.learn_ahead(Ahead::Late { waited });
+            return Ok(v);
+        }
+        // Timed out ahead of the change: not counted as a sleeper any more, so the change is a
+        // plain store on the other side.
+        let spin = if cfg!(loom) { 3 } else { self.bounds.max };
+        let woke = Instant::now();
+        for _ in 0..spin {
+            relax(std::hint::spin_loop);
+            if let Some(v) = ready(&self.ring()) {
+                let spun = woke.elapsed().as_nanos() as u64;
+                phases.learn_ahead(Ahead::Caught { spun });
+                return Ok(v);
+            }
+        }
+        let spun = woke.elapsed().as_nanos() as u64;
+        phases.learn_ahead(Ahead::Missed { spun });
+        self.sleep(deadline, ready)
+    }
+
     fn sleep<T>(
         &self,
         deadline: Instant,
         ready: &impl Fn(&Ring) -> Option<T>,
     ) -> Result<T, TimedOut> {
+        loop {
+            if let Some(v) = self.sleep_until(deadline, deadline, ready)? {
+                return Ok(v);
+            }
+        }
+    }
+
+    /// Sleeps until `ready` accepts the counters, or until `wake` (then `None`), or until
+    /// `deadline` (then [`TimedOut`]). `wake` is no later than `deadline`; under loom, which does
+    /// not model time, a `wake` before the deadline ends the sleep after its first look.
+    fn sleep_until<T>(
+        &self,
+        wake: Instant,
+        deadline: Instant,
+        ready: &impl Fn(&Ring) -> Option<T>,
+    ) -> Result<Option<T>, TimedOut> {
         let sleepers = &self.sleepers;
         sleepers.count.fetch_add(1, Ordering::Relaxed);
         // Pairs with the signaller's fence: either it sees us or we see its change.
@@ -272,19 +382,34 @@ impl AdaptiveRing {
         let mut guard = sleepers.lock.lock();
         let outcome = loop {
             if let Some(v) = ready(&self.ring()) {
-                break Ok(v);
+                break Ok(Some(v));
             }
-            if sleepers
-                .changed
-                .wait_until(&mut guard, deadline)
-                .timed_out()
-            {
-                break ready(&self.ring()).ok_or(TimedOut);
+            if cfg!(loom) && wake < deadline {
+                break Ok(None);
+            }
+            if sleepers.changed.wait_until(&mut guard, wake).timed_out() {
+                break match ready(&self.ring()) {
+                    Some(v) => Ok(Some(v)),
+                    None if wake < deadline => Ok(None),
+                    None => Err(TimedOut),
+                };
             }
         };
         drop(guard);
         sleepers.count.fetch_sub(1, Ordering::Relaxed);
         outcome
+    }
+}
+
+/// Makes the calling thread's timed sleeps end when asked, once per thread: Linux lets a
+/// normal thread's timers fire up to 50 µs late (its timer slack), most of a wake-up ahead.
+fn precise_timers() {
+    thread_local!(static PRECISE: std::cell::Cell<bool> = const { std::cell::Cell::new(false) });
+    if !cfg!(loom) && !PRECISE.get() {
+        PRECISE.set(true);
+        // SAFETY: PR_SET_TIMERSLACK takes a value and touches only the calling thread's
+        // scheduling attributes; 1 ns is the smallest slack (0 would restore the default).
+        unsafe { libc::prctl(libc::PR_SET_TIMERSLACK, 1 as libc::c_ulong) };
     }
 }
 
@@ -376,6 +501,79 @@ mod tests {
             probes,
             [bounds.probe],
             "a shrunk spin is probed once every {PROBE_EVERY} waits"
+        );
+    }
+
+    #[test]
+    fn a_wake_up_ahead_moves_until_the_change_comes_a_short_spin_after_it() {
+        let bounds = SpinBounds::at(100.0);
+        let p = Phases::new(&bounds);
+        let wake = || p.wake_ns.load(Relaxed);
+        assert_eq!(
+            p.wake_after(),
+            Some(Duration::ZERO),
+            "not learnt: sleep through"
+        );
+        p.learn_ahead(Ahead::Late { waited: 160_000 });
+        assert_eq!(
+            wake(),
+            140_000,
+            "the first sleep sets it an eighth short of the wait"
+        );
+        p.learn_ahead(Ahead::Caught { spun: 24_000 });
+        assert_eq!(
+            wake(),
+            140_000 + 12_000 - AHEAD_NS / 2,
+            "a change long after the wake-up moves it half the error later"
+        );
+        let before = wake();
+        p.learn_ahead(Ahead::Caught { spun: AHEAD_NS });
+        assert_eq!(
+            wake(),
+            before,
+            "a change {AHEAD_NS} ns after the wake-up keeps it"
+        );
+        p.learn_ahead(Ahead::Caught { spun: 0 });
+        assert_eq!(
+            wake(),
+            before - AHEAD_NS / 2,
+            "one at once moves it earlier"
+        );
+        p.learn_ahead(Ahead::Late { waited: 200_000 });
+        assert_eq!(
+            wake(),
+            (before - AHEAD_NS / 2) * 7 / 8,
+            "a change before the wake-up moves it an eighth earlier"
+        );
+        p.learn_ahead(Ahead::Late { waited: 80_000 });
+        assert_eq!(wake(), 70_000, "or to an eighth short of a shorter wait");
+        for miss in 1..=AHEAD_MISSES {
+            // Not a probe's turn: a wait counted.
+            p.spin_for(&bounds);
+            assert!(
+                p.wake_after().is_some(),
+                "still waking ahead after {} misses",
+                miss - 1
+            );
+            p.learn_ahead(Ahead::Missed { spun: 20_000 });
+        }
+        assert_eq!(wake(), 70_000 + AHEAD_MISSES * 20_000);
+        let ahead: Vec<bool> = (0..PROBE_EVERY)
+            .map(|_| {
+                p.spin_for(&bounds);
+                p.wake_after().is_some()
+            })
+            .collect();
+        assert_eq!(
+            ahead.iter().filter(|&&a| a).count(),
+            1,
+            "after {AHEAD_MISSES} misses in a row only a probe every {PROBE_EVERY} waits wakes ahead"
+        );
+        p.learn_ahead(Ahead::Caught { spun: AHEAD_NS });
+        p.spin_for(&bounds);
+        assert!(
+            p.wake_after().is_some(),
+            "a probe that caught the change resumes it"
         );
     }
 }
