@@ -47,6 +47,10 @@ const AHEAD_NS: u64 = 4_000;
 /// Wake-ups ahead that missed in a row (the other side did not come within a spin, as on one
 /// core, where it cannot run while the waiter spins) before waking ahead stops until a probe.
 const AHEAD_MISSES: u64 = 4;
+/// A side whose waits ahead of the change have been learnt to last this long keeps waking ahead
+/// though the other side had to wait once (its last wait was not over at once): a long wait is
+/// cheaper asleep than yielding, and the learning moves it back if the waits shorten.
+const AHEAD_LONG_NS: u64 = 4 * SPIN_MAX_NS;
 
 /// The spin's bounds in polls, from this machine's poll rate.
 struct SpinBounds {
@@ -280,7 +284,7 @@ impl AdaptiveRing {
         // this one (the helper ahead of a busy main thread): the wait sleeps, without a yield
         // phase, but wakes ahead of the change, so that the other side, which would otherwise
         // pay the wake-up in its frame, finds it spinning.
-        if other.unhurried.load(Relaxed) {
+        if other.unhurried.load(Relaxed) || phases.wake_ns.load(Relaxed) >= AHEAD_LONG_NS {
             let started = spun - Duration::from_nanos(polls::to_ns(spin, self.bounds.per_us));
             let outcome = self.sleep_ahead(phases, started, deadline, &ready);
             phases.learn(&self.bounds, Phase::Sleep, spin, spun.elapsed());
