@@ -418,3 +418,110 @@ fn sentence(f: &Finding) -> String {
         )
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cell::{Dim, DimValue, Threading, Value};
+    use crate::ocean::{Kernel, NormalMethod};
+    use crate::sync::SyncMethod;
+
+    fn key(size: usize) -> CellKey {
+        CellKey::from_fn(|dim| match dim {
+            Dim::Size => Some(Value::Count(size)),
+            Dim::Workload => Some(Value::Count(0)),
+            Dim::Mode => Some(Mode::Dp.value()),
+            Dim::Sync => Some(SyncMethod::Atomic.value()),
+            Dim::Threading => Some(Threading::Pool.value()),
+            Dim::Normals => Some(NormalMethod::Neighbors.value()),
+            Dim::Kernel => Some(Kernel::Reference.value()),
+            _ => None,
+        })
+        .expect("a whole key")
+    }
+
+    fn cell(size: usize, classes: &[(Class, usize, f64)]) -> CellPlacement {
+        CellPlacement {
+            key: key(size),
+            classes: classes
+                .iter()
+                .map(|&(class, trials, fps)| ClassTrials {
+                    class,
+                    trials,
+                    fps,
+                    step_ms: 1.0,
+                })
+                .collect(),
+            unplaced: 0,
+        }
+    }
+
+    fn split(two: bool) -> Split {
+        let far = if two { vec![400.0, 410.0] } else { vec![] };
+        Split::of([100.0, 110.0].into_iter().chain(far)).expect("round trips")
+    }
+
+    #[test]
+    fn a_cell_has_one_class_only_when_its_trials_share_one_that_is_no_move() {
+        assert_eq!(cell(40, &[(Class::Near, 3, 1.0)]).only(), Some(Class::Near));
+        assert_eq!(cell(40, &[(Class::Moved, 3, 1.0)]).only(), None);
+        let both = cell(40, &[(Class::Near, 2, 1.0), (Class::Far, 1, 1.0)]);
+        assert_eq!(both.only(), None);
+        assert_eq!(both.fps_line(), "near 1 FPS (2), far 1 FPS (1)");
+        let line = cell(40, &[(Class::Near, 3, 1234.4), (Class::Far, 2, 986.6)]).fps_line();
+        assert_eq!(line, "near 1234 FPS (3), far 987 FPS (2)");
+    }
+
+    #[test]
+    fn a_run_counts_trials_per_class_and_names_its_mixed_cells() {
+        let run = RunPlacement {
+            split: Some(split(true)),
+            cells: vec![
+                cell(40, &[(Class::Near, 3, 1.0)]),
+                cell(96, &[(Class::Near, 2, 1.0), (Class::Far, 1, 1.0)]),
+            ],
+        };
+        assert_eq!(run.trials(), [(Class::Near, 5), (Class::Far, 1)]);
+        let mixed: Vec<&CellKey> = run.mixed().map(|c| &c.key).collect();
+        assert_eq!(mixed, [&key(96)]);
+        let summary = run.summary().expect("a split");
+        assert!(
+            summary.ends_with("; 6 placed trials: 5 near, 1 far; 1 of 2 cells with placed trials mixed placements"),
+            "{summary}"
+        );
+    }
+
+    #[test]
+    fn a_run_in_one_placement_or_with_no_placed_trial_says_so() {
+        let one = RunPlacement {
+            split: Some(split(false)),
+            cells: vec![cell(40, &[(Class::One, 4, 1.0)])],
+        };
+        let summary = one.summary().expect("a split");
+        assert!(
+            summary.ends_with("; every one of the 4 placed trials ran in it"),
+            "{summary}"
+        );
+        let none = RunPlacement {
+            split: Some(split(false)),
+            cells: vec![],
+        };
+        assert_eq!(none.trials(), []);
+        assert_eq!(none.summary(), Some(split(false).describe()));
+        let unmeasured = RunPlacement {
+            split: None,
+            cells: vec![],
+        };
+        assert_eq!(unmeasured.summary(), None);
+    }
+
+    #[test]
+    fn the_geometric_mean_skips_what_has_no_logarithm() {
+        assert_eq!(geomean(&[1.0, 4.0]), Some(2.0));
+        assert_eq!(
+            geomean(&[2.0, 0.0, -1.0, f64::INFINITY, f64::NAN, 8.0]),
+            Some(4.0)
+        );
+        assert_eq!(geomean(&[0.0, f64::NAN]), None);
+    }
+}
