@@ -224,3 +224,55 @@ fn a_lone_round_trip_outside_the_cluster_is_named_not_dropped() {
     let two = oceanbench::placement::Split::of([40.0, 41.0, 400.0, 410.0, 4000.0]).unwrap();
     assert!(two.describe().ends_with("(and 1 round trip in neither)"));
 }
+
+#[test]
+fn a_serial_twin_without_placed_trials_is_read_whole_only_when_no_twin_was_placed() {
+    // No serial trial records at all: each DP cell is against its twin's every trial.
+    let r = run(&[], &[(90.0, NEAR); 3], &[(180.0, NEAR); 3]);
+    let f = placement::finding(&r).unwrap();
+    assert!(!f.serial_placed);
+    let twin = r.cell(&key(&r, Mode::Serial)).unwrap();
+    let whole = twin.summary.as_ref().unwrap().fps_trials.clone();
+    let want = 180.0 / (whole.iter().sum::<f64>() / whole.len() as f64);
+    let got = f.sides[0].dp_over_serial.unwrap();
+    assert!((got - want).abs() < 1e-9, "{got} against {want}");
+    assert!(
+        f.sentence.contains("Serial trials were not placed"),
+        "{}",
+        f.sentence
+    );
+
+    // One twin placed, another DP cell's not: that cell has no DP ÷ serial of its own
+    // placement, so only the placed pair counts.
+    let mut r = run(&[(100.0, NEAR); 3], &[(90.0, NEAR); 3], &[(180.0, NEAR); 3]);
+    let atomic = key(&r, Mode::Dp);
+    let records = r.cell(&atomic).unwrap().trials.clone();
+    let own_twin = key(&r, Mode::Serial);
+    let other = r
+        .cells
+        .iter_mut()
+        .find(|c| {
+            c.key.mode == Mode::Dp
+                && c.key.with(Dim::Mode, Mode::Serial.value()).as_ref() != Some(&own_twin)
+        })
+        .expect("a DP cell of another row");
+    other.trials = records
+        .iter()
+        .map(|t| TrialRecord {
+            fps: 120.0,
+            ..t.clone()
+        })
+        .collect();
+    let other_twin = other.key.with(Dim::Mode, Mode::Serial.value()).unwrap();
+    r.cells
+        .iter_mut()
+        .find(|c| c.key == other_twin)
+        .expect("its serial twin")
+        .trials
+        .clear();
+    placement::label(&mut r);
+    let f = placement::finding(&r).unwrap();
+    assert!(f.serial_placed);
+    assert_eq!(f.sides[0].dp_trials, 6, "both DP cells' trials");
+    assert!((f.sides[0].dp_over_serial.unwrap() - 1.8).abs() < 1e-9);
+}
