@@ -276,3 +276,58 @@ fn a_serial_twin_without_placed_trials_is_read_whole_only_when_no_twin_was_place
     assert_eq!(f.sides[0].dp_trials, 6, "both DP cells' trials");
     assert!((f.sides[0].dp_over_serial.unwrap() - 1.8).abs() < 1e-9);
 }
+
+#[test]
+fn with_a_cell_in_both_placements_each_side_is_over_those_cells_only() {
+    let mut r = run(
+        &[(100.0, NEAR), (100.0, NEAR), (110.0, FAR)],
+        &[(90.0, NEAR); 3],
+        &[(180.0, NEAR), (180.0, NEAR), (165.0, FAR)],
+    );
+    let atomic = key(&r, Mode::Dp);
+    let own_twin = key(&r, Mode::Serial);
+    let (dp_records, twin_records) = (
+        r.cell(&atomic).unwrap().trials.clone(),
+        r.cell(&own_twin).unwrap().trials.clone(),
+    );
+    let step = dp_records[0].breakdown.step_ms;
+    // A DP cell of another row that ran near only, at another speed, its twin near too.
+    let other = r
+        .cells
+        .iter_mut()
+        .find(|c| {
+            c.key.mode == Mode::Dp
+                && c.key.with(Dim::Mode, Mode::Serial.value()).as_ref() != Some(&own_twin)
+        })
+        .expect("a DP cell of another row");
+    other.trials = (0..3)
+        .map(|_| TrialRecord {
+            fps: 120.0,
+            ..dp_records[0].clone()
+        })
+        .collect();
+    let other_twin = other.key.with(Dim::Mode, Mode::Serial.value()).unwrap();
+    r.cells
+        .iter_mut()
+        .find(|c| c.key == other_twin)
+        .expect("its serial twin")
+        .trials = vec![twin_records[0].clone(); 3];
+    placement::label(&mut r);
+    let f = placement::finding(&r).unwrap();
+    assert_eq!(f.contrasts.len(), 1, "the atomic cell ran in both");
+    let near = &f.sides[0];
+    assert_eq!(
+        (near.class, near.cells, near.dp_trials),
+        (Class::Near, 1, 5)
+    );
+    assert!(
+        (near.dp_over_serial.unwrap() - 1.8).abs() < 1e-9,
+        "{near:?}"
+    );
+    assert_eq!(near.step_ms, Some(step));
+    let far = &f.sides[1];
+    assert!((far.dp_over_serial.unwrap() - 1.5).abs() < 1e-9, "{far:?}");
+    let far_over_near = f.dp_over_serial_far_over_near.unwrap();
+    assert!((far_over_near - 1.5 / 1.8).abs() < 1e-9, "{far_over_near}");
+    assert_eq!(f.step_far_over_near, Some(1.0), "one step near and far");
+}
