@@ -245,32 +245,7 @@ fn a_serial_twin_without_placed_trials_is_read_whole_only_when_no_twin_was_place
     // One twin placed, another DP cell's not: that cell has no DP ÷ serial of its own
     // placement, so only the placed pair counts.
     let mut r = run(&[(100.0, NEAR); 3], &[(90.0, NEAR); 3], &[(180.0, NEAR); 3]);
-    let atomic = key(&r, Mode::Dp);
-    let records = r.cell(&atomic).unwrap().trials.clone();
-    let own_twin = key(&r, Mode::Serial);
-    let other = r
-        .cells
-        .iter_mut()
-        .find(|c| {
-            c.key.mode == Mode::Dp
-                && c.key.with(Dim::Mode, Mode::Serial.value()).as_ref() != Some(&own_twin)
-        })
-        .expect("a DP cell of another row");
-    other.trials = records
-        .iter()
-        .map(|t| TrialRecord {
-            fps: 120.0,
-            ..t.clone()
-        })
-        .collect();
-    let other_twin = other.key.with(Dim::Mode, Mode::Serial.value()).unwrap();
-    r.cells
-        .iter_mut()
-        .find(|c| c.key == other_twin)
-        .expect("its serial twin")
-        .trials
-        .clear();
-    placement::label(&mut r);
+    another_row(&mut r, 120.0, vec![]);
     let f = placement::finding(&r).unwrap();
     assert!(f.serial_placed);
     assert_eq!(f.sides[0].dp_trials, 6, "both DP cells' trials");
@@ -284,35 +259,12 @@ fn with_a_cell_in_both_placements_each_side_is_over_those_cells_only() {
         &[(90.0, NEAR); 3],
         &[(180.0, NEAR), (180.0, NEAR), (165.0, FAR)],
     );
-    let atomic = key(&r, Mode::Dp);
-    let own_twin = key(&r, Mode::Serial);
-    let (dp_records, twin_records) = (
-        r.cell(&atomic).unwrap().trials.clone(),
-        r.cell(&own_twin).unwrap().trials.clone(),
-    );
-    let step = dp_records[0].breakdown.step_ms;
+    let step = r.cell(&key(&r, Mode::Dp)).unwrap().trials[0]
+        .breakdown
+        .step_ms;
     // A DP cell of another row that ran near only, at another speed, its twin near too.
-    let other = r
-        .cells
-        .iter_mut()
-        .find(|c| {
-            c.key.mode == Mode::Dp
-                && c.key.with(Dim::Mode, Mode::Serial.value()).as_ref() != Some(&own_twin)
-        })
-        .expect("a DP cell of another row");
-    other.trials = (0..3)
-        .map(|_| TrialRecord {
-            fps: 120.0,
-            ..dp_records[0].clone()
-        })
-        .collect();
-    let other_twin = other.key.with(Dim::Mode, Mode::Serial.value()).unwrap();
-    r.cells
-        .iter_mut()
-        .find(|c| c.key == other_twin)
-        .expect("its serial twin")
-        .trials = vec![twin_records[0].clone(); 3];
-    placement::label(&mut r);
+    let twin = r.cell(&key(&r, Mode::Serial)).unwrap().trials[0].clone();
+    another_row(&mut r, 120.0, vec![twin; 3]);
     let f = placement::finding(&r).unwrap();
     assert_eq!(f.contrasts.len(), 1, "the atomic cell ran in both");
     let near = &f.sides[0];
@@ -330,4 +282,25 @@ fn with_a_cell_in_both_placements_each_side_is_over_those_cells_only() {
     let far_over_near = f.dp_over_serial_far_over_near.unwrap();
     assert!((far_over_near - 1.5 / 1.8).abs() < 1e-9, "{far_over_near}");
     assert_eq!(f.step_far_over_near, Some(1.0), "one step near and far");
+}
+
+/// Gives a DP cell of another row (another serial twin) three trials like the row's first DP
+/// trial but at `fps`, and its serial twin the trials `twin`; then labels the run again.
+fn another_row(r: &mut Results, fps: f64, twin: Vec<TrialRecord>) {
+    let (dp, own_twin) = (key(r, Mode::Dp), key(r, Mode::Serial));
+    let like = r.cell(&dp).unwrap().trials[0].clone();
+    let serial = |k: &CellKey| k.with(Dim::Mode, Mode::Serial.value());
+    let other = r
+        .cells
+        .iter_mut()
+        .find(|c| c.key.mode == Mode::Dp && serial(&c.key).as_ref() != Some(&own_twin))
+        .expect("a DP cell of another row");
+    other.trials = vec![TrialRecord { fps, ..like }; 3];
+    let other_twin = serial(&other.key).unwrap();
+    r.cells
+        .iter_mut()
+        .find(|c| c.key == other_twin)
+        .expect("its serial twin")
+        .trials = twin;
+    placement::label(r);
 }
