@@ -9,6 +9,8 @@
 //! one edge per patch width, its middle at the still sea, and is sampled trilinearly with
 //! wrap-around, as a GPU samples a 3-D texture in wrap mode.
 
+#[cfg(target_arch = "x86_64")]
+use super::gather;
 use super::isa::{self, Isa};
 use crate::grid::periodic_cell;
 use crate::ocean::Mesh;
@@ -68,9 +70,11 @@ pub fn fill(
     view: &View,
     out: &mut [f32],
 ) {
+    let isa = Isa::detect();
     isa::run(
-        Isa::detect(),
+        isa,
         Coefficients {
+            isa,
             mesh,
             range,
             volume,
@@ -83,6 +87,7 @@ pub fn fill(
 
 /// The coefficient loop, compiled per instruction set.
 struct Coefficients<'a> {
+    isa: Isa,
     mesh: &'a Mesh,
     range: std::ops::Range<usize>,
     volume: &'a [f32],
@@ -97,6 +102,7 @@ impl isa::Loop for Coefficients<'_> {
     #[inline(always)]
     fn run(self) {
         let Coefficients {
+            isa,
             mesh,
             range,
             volume,
@@ -105,6 +111,7 @@ impl isa::Loop for Coefficients<'_> {
             out,
         } = self;
         assert_eq!(volume.len(), n * n * n, "an n³ volume");
+        assert!(n * n * n <= i32::MAX as usize, "voxel indices fit an i32");
         let inv = 1.0 / view.width;
         let scale = n as f32 * inv;
         let (x, y, z) = (
@@ -119,7 +126,15 @@ impl isa::Loop for Coefficients<'_> {
         for (out, ((x, y), z)) in out.chunks_mut(CHUNK).zip(chunks) {
             // Zipped rather than indexed: a bounds check per vertex would keep a loop scalar.
             let points = || x.iter().zip(y).zip(z);
-            for (s, ((&x, &y), &z)) in noise.iter_mut().zip(points()) {
+            let noise = &mut noise[..x.len()];
+            let gathered = match isa {
+                // SAFETY: the CPU has AVX-512F (`isa` is detected); the volume holds n³ values
+                // and n³ fits an i32 (both asserted above); the chunks have one length.
+                #[cfg(target_arch = "x86_64")]
+                Isa::Avx512 => unsafe { gather::noise(volume, n, (scale, inv), (x, y, z), noise) },
+                _ => 0,
+            };
+            for (s, ((&x, &y), &z)) in noise.iter_mut().zip(points()).skip(gathered) {
                 // SAFETY: the volume holds n³ values (asserted above).
                 *s = unsafe { sample(volume, n, x * scale, y * scale, (z * inv + 0.5) * scale) };
             }
@@ -179,7 +194,8 @@ mod tests {
     fn the_chunked_fill_is_each_vertex_alone_bit_for_bit() {
         use crate::ocean::sines::Sines;
         use crate::ocean::{Grid, Kernel, Model, NormalMethod, OceanParams};
-        // 37² vertices: chunks of CHUNK and a short one at the end.
+        // 37² vertices: chunks of CHUNK and a short one at the end, each gathered sixteen at a
+        // time where the CPU has AVX-512 and the rest one by one.
         let grid = Grid::new(37, 1.0).unwrap();
         let mut mesh = Sines.mesh(grid);
         Sines
@@ -191,7 +207,17 @@ mod tests {
             )
             .unwrap()
             .step(0.7, &mut mesh);
-        let n = 8;
+        // Points below the volume's origin and far past it wrap too.
+        for v in (0..grid.vertices()).step_by(7) {
+            mesh.x[v] -= 40.0 * (v % 3) as f32;
+            mesh.y[v] += 1.0e5 * (v % 5) as f32;
+        }
+        // Beyond 2^24 cells, where the wrap rounds and is clamped into the volume.
+        for (v, far) in [(40, -3.0e9), (41, 3.0e9), (42, -1.0e30), (43, 7.7e8)] {
+            mesh.x[v] = far;
+        }
+        // Not a power of two, so that dividing a far cell by n rounds.
+        let n = 7;
         let volume: Vec<f32> = (0..n * n * n).map(|i| ((i as f32) * 0.37).sin()).collect();
         let view = View {
             eye: Vec3::new(18.0, -20.0, 9.0),

@@ -9,6 +9,8 @@
 pub mod blur;
 pub mod calibrate;
 pub mod coefficient;
+#[cfg(target_arch = "x86_64")]
+mod gather;
 pub mod isa;
 pub mod noise;
 
