@@ -3,8 +3,10 @@
 //! adaptive mutexes do). Across two cores a short wait is caught while spinning, at the
 //! cache-line floor; on one core spinning cannot succeed (the other side needs the core), so the
 //! spin shrinks to nothing and the yield hands the core over; a waiter that always waits long
-//! stops polling and sleeps, which costs a wake-up but no CPU. So does a waiter whose other side
-//! is not waiting on it (its last wait was over at once): a late wake-up costs no frame there.
+//! stops polling and sleeps, which costs a wake-up but no CPU. A waiter whose other side is not
+//! waiting on it (its last wait was over at once), or whose waits have been learnt to be long,
+//! sleeps only until shortly before the change is due and then spins for it: a plain sleep would
+//! make the other side pay a futex wake in its own frame.
 //!
 //! The spin is counted in polls, converted from time with the machine's poll rate measured once
 //! per process (`polls`), so a wait the spin catches never reads the clock; the clock is read
