@@ -119,8 +119,9 @@ impl isa::Loop for Coefficients<'_> {
             &mesh.y[range.clone()],
             &mesh.z[range],
         );
-        // In chunks, two passes each: the noise's scattered lookups one vertex at a time, then
-        // the distance and the exponential, which have none and so run lane-wise.
+        // In chunks, two passes each: the noise's scattered lookups (gathered sixteen at a time
+        // on AVX-512, one vertex at a time otherwise), then the distance and the exponential,
+        // which have none and so run lane-wise.
         let mut noise = [0.0f32; CHUNK];
         let chunks = x.chunks(CHUNK).zip(y.chunks(CHUNK)).zip(z.chunks(CHUNK));
         for (out, ((x, y), z)) in out.chunks_mut(CHUNK).zip(chunks) {
