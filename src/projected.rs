@@ -156,22 +156,56 @@ fn place_avx2(view: &View, rows: &mut MeshRows<'_>) {
 #[inline(always)]
 fn place_rows(view: &View, rows: &mut MeshRows<'_>) {
     let n = rows.grid.n;
-    let step = 2.0 / (n - 1) as f32;
-    let tan_y = view.tan_half_fov;
-    let tan_x = tan_y * view.aspect;
-    let (eye, far) = (view.eye, view.far);
     let xs = rows.x.chunks_exact_mut(n).zip(rows.y.chunks_exact_mut(n));
-    // The image's right, scaled to the half width, component by component so the row loop
-    // is plain f32 arithmetic for LLVM to vectorise.
-    let [rx, ry, rz] = (view.right * tan_x).to_array();
     for (r, (xs, ys)) in xs.enumerate() {
-        let v = -1.0 + (rows.first_row + r) as f32 * step;
-        let [bx, by, bz] = (view.forward + view.up * (v * tan_y)).to_array();
-        // Branch-free: a ray meets the plane at s_hit along it (never at or above the
-        // horizon) and reaches the far line at s_far; it stops at the nearer, and
-        // s_hit > s_far is exactly "meets the plane beyond far".
+        let row = ImageRow::new(view, n, rows.first_row + r);
+        if !row.place_level(xs, ys) {
+            row.place(xs, ys);
+        }
+    }
+}
+
+/// One image row's rays: ray j's direction is `base + u_j·right`, u_j = −1 + j·step. The row
+/// loops turn j into an f32 through i32: the same value below 2^24, and a conversion LLVM
+/// vectorises, where usize's is a scalar instruction per vertex on x86-64.
+#[derive(Clone, Copy, Debug)]
+struct ImageRow {
+    eye: glam::Vec3,
+    far: f32,
+    step: f32,
+    n: usize,
+    /// The image's right, scaled to the half width, component by component so the row
+    /// loops are plain f32 arithmetic for LLVM to vectorise.
+    right: [f32; 3],
+    base: [f32; 3],
+}
+
+impl ImageRow {
+    /// Row `i` of an n×n image seen from `view`.
+    #[inline(always)]
+    fn new(view: &View, n: usize, i: usize) -> ImageRow {
+        let step = 2.0 / (n - 1) as f32;
+        let tan_y = view.tan_half_fov;
+        let tan_x = tan_y * view.aspect;
+        let v = -1.0 + i as f32 * step;
+        ImageRow {
+            eye: view.eye,
+            far: view.far,
+            step,
+            n,
+            right: (view.right * tan_x).to_array(),
+            base: (view.forward + view.up * (v * tan_y)).to_array(),
+        }
+    }
+
+    /// Every vertex of the row, clamped or not. Branch-free: a ray meets the plane at s_hit
+    /// along it (never at or above the horizon) and reaches the far line at s_far; it stops at
+    /// the nearer, and s_hit > s_far is exactly "meets the plane beyond far".
+    #[inline(always)]
+    fn place(&self, xs: &mut [f32], ys: &mut [f32]) {
+        let ([bx, by, bz], [rx, ry, rz], eye, far) = (self.base, self.right, self.eye, self.far);
         for (j, (x, y)) in xs.iter_mut().zip(ys.iter_mut()).enumerate() {
-            let u = -1.0 + j as f32 * step;
+            let u = -1.0 + j as i32 as f32 * self.step;
             let (dx, dy, dz) = (bx + u * rx, by + u * ry, bz + u * rz);
             let s_hit = if dz < 0.0 { eye.z / -dz } else { f32::INFINITY };
             let s_far = far / (dx * dx + dy * dy).sqrt();
@@ -182,5 +216,103 @@ fn place_rows(view: &View, rows: &mut MeshRows<'_>) {
             *x = eye.x + dx * s;
             *y = eye.y + dy * s;
         }
+    }
+
+    /// `place`'s result for a level row (the image's right horizontal) none of whose rays is
+    /// clamped, without its division and square root per vertex; false, writing nothing, for
+    /// any other row. Such a row meets the plane at one s along every ray, and even its widest
+    /// ray (|d_h|² is convex in u, so at one of the row's ends) reaches the plane well short of
+    /// far, so `place` would pick that s at every vertex and do the same operations with it.
+    #[inline(always)]
+    fn place_level(&self, xs: &mut [f32], ys: &mut [f32]) -> bool {
+        let ([bx, by, bz], [rx, ry, rz], eye) = (self.base, self.right, self.eye);
+        if rz != 0.0 || bz >= 0.0 {
+            return false;
+        }
+        let s = eye.z / -bz;
+        let reach = |u: f32| (bx + u * rx).hypot(by + u * ry) as f64;
+        let widest = reach(-1.0).max(reach(-1.0 + (self.n - 1) as f32 * self.step));
+        if s as f64 * widest * (1.0 + 1.0 / 1024.0) >= self.far as f64 {
+            return false;
+        }
+        for (j, (x, y)) in xs.iter_mut().zip(ys.iter_mut()).enumerate() {
+            let u = -1.0 + j as i32 as f32 * self.step;
+            *x = eye.x + (bx + u * rx) * s;
+            *y = eye.y + (by + u * ry) * s;
+        }
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Both ways of placing row `i` of `view`'s n×n image: `place_level`'s (None when it
+    /// declines the row) and `place`'s.
+    fn both(view: &View, n: usize, i: usize) -> (Option<Vec<u32>>, Vec<u32>) {
+        let row = ImageRow::new(view, n, i);
+        let bits = |x: Vec<f32>, y: Vec<f32>| x.iter().chain(&y).map(|v| v.to_bits()).collect();
+        let (mut x, mut y) = (vec![0.0; n], vec![0.0; n]);
+        let level = row.place_level(&mut x, &mut y).then(|| bits(x, y));
+        let (mut x, mut y) = (vec![0.0; n], vec![0.0; n]);
+        row.place(&mut x, &mut y);
+        (level, bits(x, y))
+    }
+
+    #[test]
+    fn a_level_row_short_of_far_is_placed_bit_for_bit_as_every_row_is() {
+        let cameras = [
+            Camera::default(),
+            Camera {
+                height: Some(6.0),
+                pitch_degrees: 8.0,
+                ..Camera::default()
+            },
+            Camera {
+                height: Some(40.0),
+                pitch_degrees: 90.0,
+                ..Camera::default()
+            },
+        ];
+        for camera in cameras {
+            for n in [33, 256] {
+                let view = camera.view_at(crate::ocean::Grid::new(n, 1.0).unwrap(), 0.7);
+                let (mut level, mut declined) = (0, 0);
+                for i in 0..n {
+                    match both(&view, n, i) {
+                        (Some(fast), all) => {
+                            assert_eq!(fast, all, "{camera:?} n {n} row {i}");
+                            level += 1;
+                        }
+                        (None, _) => declined += 1,
+                    }
+                }
+                // Every camera here frames some sea short of far; all but the one looking
+                // straight down reach it at the image's top.
+                assert!(level > 0, "{camera:?} n {n}: no row taken as level");
+                if camera.pitch_degrees < 90.0 {
+                    assert!(declined > 0, "{camera:?} n {n}: no clamped row declined");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_rolled_or_clamped_row_is_declined() {
+        let grid = crate::ocean::Grid::new(17, 1.0).unwrap();
+        let mut view = Camera::default().view_at(grid, 0.0);
+        let (mut x, mut y) = (vec![0.0; 17], vec![0.0; 17]);
+        // The bottom row is short of far; the top row's rays end on the far line.
+        assert!(ImageRow::new(&view, 17, 0).place_level(&mut x, &mut y));
+        assert!(!ImageRow::new(&view, 17, 16).place_level(&mut x, &mut y));
+        view.right = glam::Vec3::new(1.0, 0.0, 0.01).normalize();
+        let (before_x, before_y) = (x.clone(), y.clone());
+        assert!(!ImageRow::new(&view, 17, 0).place_level(&mut x, &mut y));
+        assert_eq!(
+            (x, y),
+            (before_x, before_y),
+            "a declined row is left as it was"
+        );
     }
 }
