@@ -117,7 +117,13 @@ fn rows<V: Vector, const K: usize, const T: usize, const S: bool>(step: Step) {
 /// Stores a tile's heights and, with `S`, its normals at column `c` of the row `out` (z, nx,
 /// ny, nz); `WHOLE` when the tile lies inside the row.
 #[inline(always)]
-fn store_tile<V: Vector, const K: usize, const T: usize, const S: bool, const WHOLE: bool>(
+pub(super) fn store_tile<
+    V: Vector,
+    const K: usize,
+    const T: usize,
+    const S: bool,
+    const WHOLE: bool,
+>(
     acc: [[[V; 3]; K]; T],
     [z, nx, ny, nz]: [&mut [f32]; 4],
     c: usize,
@@ -152,7 +158,7 @@ fn store_tile<V: Vector, const K: usize, const T: usize, const S: bool, const WH
 /// tile's columns (a, b) in the roles `Tables::row_scale` gives them, h and g up to the row's
 /// factor are u = a·t + b and v = b·(−t) + a; `k` is the wave's A, cx, cy with that factor.
 #[inline(always)]
-fn add_tile<V: Vector, const K: usize, const T: usize, const S: bool, const E: u32>(
+pub(super) fn add_tile<V: Vector, const K: usize, const T: usize, const S: bool, const E: u32>(
     acc: &mut [[[V; 3]; K]; T],
     (a, b): (&[f32], &[f32]),
     (t, neg_t): (V, V),

@@ -80,12 +80,14 @@ impl WaveConsts {
     /// `a·x + b·y + c` with `[a, b, c]`: the time phase and the π/4 reduced in f64 first, so
     /// only the point's own part is rounded to f32 (the projected grid's per-vertex path).
     pub fn point_turns(&self, t: f64) -> [f32; 3] {
+        self.point_turns_f64(t).map(|v| v as f32)
+    }
+
+    /// `point_turns` before its rounding to f32, for phases summed in f64 (rows of points on
+    /// a line).
+    pub fn point_turns_f64(&self, t: f64) -> [f64; 3] {
         let c = self.time_turns * t + 0.25;
-        [
-            self.col_turns as f32,
-            self.row_turns as f32,
-            (c - c.floor()) as f32,
-        ]
+        [self.col_turns, self.row_turns, c - c.floor()]
     }
 }
 

@@ -1,15 +1,25 @@
 //! The fast kernel at scattered points: the projected grid's vertices lie anywhere on the sea
-//! plane, so the separable phase tables do not apply. Each vertex's half angle comes from its
-//! own x, y by a polynomial sin and cos of π·r (r reduced to [−½, ½]), written lane by lane so
-//! LLVM vectorises it; the per-wave loops of `simd` then add each wave's height and slope as
-//! they do on the regular grid, reading the per-vertex sin and cos as their column tables.
+//! plane, so the grid's separable phase tables do not apply. The per-wave loops of `simd` add
+//! each wave's height and slope as they do on the regular grid; what differs is where each
+//! vertex's sin and cos of the half angle come from.
+//!
+//! - A row whose vertices lie evenly spaced on a line (every row of a camera whose image's
+//!   right is horizontal, short of the far clamp) has phases in arithmetic progression. The
+//!   row is cut into segments of `SEG` vertices: one polynomial sin and cos per segment for
+//!   its first vertex, one table of `SEG` for the advance along the segment, and angle
+//!   addition, as on the regular grid, for each vertex. Phases are summed in f64 and reduced
+//!   before they become f32.
+//! - Any other row (the far line's arc, a rolled camera) takes each vertex's half angle from
+//!   its own x, y by a polynomial sin and cos of π·r (r reduced to [−½, ½]), written lane by
+//!   lane so LLVM vectorises it.
 
+use super::fused::{self, add_tile, store_tile};
 use super::math::fma;
 use super::phase::{Power, WaveConsts};
-use super::simd::{self, by_exp, full, IntExp, Isa};
+use super::simd::{self, by_exp, full, AbsPow, IntExp, Isa};
 use super::vector::Vector;
 use crate::ocean::mesh::MeshRows;
-use crate::ocean::waves::WaveSet;
+use crate::ocean::waves::{WaveSet, MAX_WAVES};
 use std::f64::consts::PI;
 
 /// Adding then subtracting 1.5·2^23 rounds an f32 below 2^22 in magnitude to an integer
@@ -37,6 +47,40 @@ const COS: [f32; 7] = [
     (PI * PI * PI * PI * PI * PI * PI * PI * PI * PI * PI * PI / 479_001_600.0) as f32,
 ];
 
+/// The f64 counterpart of `ROUNDER`: rounds an f64 below 2^51 in magnitude to an integer.
+const ROUNDER_F64: f64 = 6_755_399_441_055_744.0;
+
+/// Vertices per segment of a row on a line: the row's polynomial evaluations per wave are
+/// one per segment plus one per vertex of a segment, fewest near √n over the grids run here.
+const SEG: usize = 32;
+
+/// How far, relative to the row's largest coordinate (at least 1), a vertex may lie from its
+/// row's line for the row to be taken as one: 4 units in the last place of an f32. A phase
+/// from the line then differs from the vertex's own by about what the per-vertex path's f32
+/// sum a·x + b·y + c rounds away.
+const LINE_TOL: f64 = 1.0 / (1u64 << 21) as f64;
+
+/// sin and cos of π·r for r in [−½, ½].
+#[inline(always)]
+fn sin_cos_pi<const F: bool>(r: f32) -> (f32, f32) {
+    let r2 = r * r;
+    let mut ps = SIN[5];
+    for k in (0..5).rev() {
+        ps = fma::<F>(ps, r2, SIN[k]);
+    }
+    let mut pc = COS[6];
+    for k in (0..6).rev() {
+        pc = fma::<F>(pc, r2, COS[k]);
+    }
+    (ps * r, pc)
+}
+
+/// q less its nearest integer, in [−½, ½], as an f32.
+#[inline(always)]
+fn reduce(q: f64) -> f32 {
+    (q - ((q + ROUNDER_F64) - ROUNDER_F64)) as f32
+}
+
 /// sin and cos of the half angle π·(a·x + b·y + c) of each point. The reduction by whole
 /// turns of π may flip both signs, which leaves h² and h·g, all the wave formula uses,
 /// unchanged.
@@ -51,30 +95,205 @@ fn half_angles<const F: bool>(
     let outs = sin.iter_mut().zip(cos.iter_mut());
     for ((s, co), (&x, &y)) in outs.zip(x.iter().zip(y)) {
         let q = fma::<F>(a, x, fma::<F>(b, y, c));
-        let r = q - ((q + ROUNDER) - ROUNDER);
-        let r2 = r * r;
-        let mut ps = SIN[5];
-        for k in (0..5).rev() {
-            ps = fma::<F>(ps, r2, SIN[k]);
+        (*s, *co) = sin_cos_pi::<F>(q - ((q + ROUNDER) - ROUNDER));
+    }
+}
+
+/// A row of points evenly spaced on a line: vertex j at (x0 + j·dx, y0 + j·dy).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Line {
+    x0: f64,
+    dx: f64,
+    y0: f64,
+    dy: f64,
+}
+
+impl Line {
+    /// The line through the row's first and last vertices, when every vertex lies within
+    /// `LINE_TOL` of its place on it (a NaN anywhere fails the check).
+    #[inline(always)]
+    fn of(x: &[f32], y: &[f32]) -> Option<Line> {
+        let last = x.len().checked_sub(1).filter(|&l| l > 0)?;
+        let (x0, y0) = (x[0] as f64, y[0] as f64);
+        let line = Line {
+            x0,
+            dx: (x[last] as f64 - x0) / last as f64,
+            y0,
+            dy: (y[last] as f64 - y0) / last as f64,
+        };
+        let bound = |a: f64, b: f64| LINE_TOL * a.abs().max(b.abs()).max(1.0);
+        let (tx, ty) = (bound(x0, x[last] as f64), bound(y0, y[last] as f64));
+        let mut on = true;
+        for (j, (&x, &y)) in x.iter().zip(y).enumerate() {
+            let j = j as i32 as f64;
+            let (ex, ey) = (x as f64 - (x0 + j * line.dx), y as f64 - (y0 + j * line.dy));
+            on &= (ex.abs() <= tx) & (ey.abs() <= ty);
         }
-        let mut pc = COS[6];
-        for k in (0..6).rev() {
-            pc = fma::<F>(pc, r2, COS[k]);
+        on.then_some(line)
+    }
+}
+
+impl Line {
+    /// A wave's half angle along the line, in turns of π: q0 at the first vertex, dq more
+    /// at each next one, from the wave's `point_turns_f64`.
+    #[inline(always)]
+    fn phase(self, [a, b, c]: [f64; 3]) -> (f64, f64) {
+        (a * self.x0 + b * self.y0 + c, a * self.dx + b * self.dy)
+    }
+}
+
+/// One wave's half angles along a row on a line: sin and cos at each segment's first vertex
+/// (`first_*`, one per segment) and of the advance from it to each vertex of a segment
+/// (`along_*`, `SEG` entries); vertex s·SEG + k's angle is the sum of the two.
+#[inline(always)]
+fn line_angles<const F: bool>(
+    turns: [f64; 3],
+    line: Line,
+    [first_sin, first_cos, along_sin, along_cos]: [&mut [f32]; 4],
+) {
+    let (q0, dq) = line.phase(turns);
+    for (s, (fs, fc)) in first_sin.iter_mut().zip(first_cos.iter_mut()).enumerate() {
+        let q = q0 + (s * SEG) as i32 as f64 * dq;
+        (*fs, *fc) = sin_cos_pi::<F>(reduce(q));
+    }
+    for (k, (ls, lc)) in along_sin.iter_mut().zip(along_cos.iter_mut()).enumerate() {
+        (*ls, *lc) = sin_cos_pi::<F>(reduce(k as i32 as f64 * dq));
+    }
+}
+
+/// Adds one wave to a row on a line, segment by segment, from its `line_angles`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn line_wave<const F: bool>(
+    [first_sin, first_cos, along_sin, along_cos]: [&[f32]; 4],
+    wave: &WaveConsts,
+    pow: impl AbsPow<F>,
+    z: &mut [f32],
+    nx: &mut [f32],
+    ny: &mut [f32],
+) {
+    // Whole segments as arrays, so each `full` runs a loop of known length (SEG / lanes whole
+    // vectors, no remainder); the row's last, shorter segment after them.
+    let (zs, z_tail) = z.as_chunks_mut::<SEG>();
+    let (nxs, nx_tail) = nx.as_chunks_mut::<SEG>();
+    let (nys, ny_tail) = ny.as_chunks_mut::<SEG>();
+    let along: (&[f32; SEG], &[f32; SEG]) = (
+        along_sin.try_into().expect("SEG entries"),
+        along_cos.try_into().expect("SEG entries"),
+    );
+    let whole = zs.len();
+    let segs = zs.iter_mut().zip(nxs.iter_mut()).zip(nys.iter_mut());
+    let firsts = first_sin.iter().zip(first_cos);
+    for (((z, nx), ny), (&sb, &cb)) in segs.zip(firsts) {
+        full::<F>(along.0, along.1, sb, cb, wave, pow, z, nx, ny);
+    }
+    let k = z_tail.len();
+    if k > 0 {
+        let (sb, cb) = (first_sin[whole], first_cos[whole]);
+        full::<F>(
+            &along.0[..k],
+            &along.1[..k],
+            sb,
+            cb,
+            wave,
+            pow,
+            z_tail,
+            nx_tail,
+            ny_tail,
+        );
+    }
+}
+
+/// The fused loop's row values (see `Tables::row_scale`) of a half angle with this sin and
+/// cos, for a wave of power 2k = `power` (at most 15): t, the one of sin/cos and cos/sin at
+/// most 1 in magnitude, and the larger's |·|^(2k), negated when it is the sin. In f32 and
+/// branch-free, so a row's tiles and waves run as one vector loop.
+#[inline(always)]
+fn fused_factor(sin: f32, cos: f32, power: u32) -> (f32, f32) {
+    let cos_larger = cos.abs() >= sin.abs();
+    let (f, other) = if cos_larger { (cos, sin) } else { (sin, cos) };
+    let (mut p, mut b) = (1.0f32, f.abs());
+    for bit in 0..4 {
+        p *= if power >> bit & 1 == 1 { b } else { 1.0 };
+        b *= b;
+    }
+    (other / f, if cos_larger { p } else { -p })
+}
+
+/// A row on a line, every wave at once (the fused loop of the regular grid): its tiles of
+/// `K` vectors take the roles of the regular grid's rows, the advance along a tile those of
+/// its columns. Per wave, one table of a tile's advances and one factor per tile; then each
+/// tile's heights and slopes stay in registers while every wave adds to them.
+#[inline(always)]
+fn line_fused<const F: bool, V: Vector, const K: usize>(
+    waves: &[WaveConsts],
+    turns: &[[f64; 3]],
+    line: Line,
+    [along, ts, scales]: [&mut Vec<f32>; 3],
+    [z, nx, ny, nz]: [&mut [f32]; 4],
+) {
+    let (n, tile) = (z.len(), K * V::LANES);
+    let tiles = n.div_ceil(tile);
+    assert!(waves.len() <= MAX_WAVES);
+    // Tables start on a 64-byte boundary, as the regular grid's (`phase::Aligned`): whole
+    // vector loads that straddle no cache line.
+    along.resize(waves.len() * 2 * tile + 15, 0.0);
+    let start = along.as_ptr().align_offset(64).min(15);
+    let along = &mut along[start..start + waves.len() * 2 * tile];
+    // Per wave and tile: the factor's t and its scale.
+    ts.resize(waves.len() * tiles, 0.0);
+    scales.resize(waves.len() * tiles, 0.0);
+    let mut exps = [0u32; MAX_WAVES];
+    for (w, (wave, &turns)) in waves.iter().zip(turns).enumerate() {
+        exps[w] = match wave.power {
+            Power::Int(e) => e,
+            Power::General(_) => unreachable!("excluded by `fused::covers`"),
+        };
+        let (q0, dq) = line.phase(turns);
+        let (sin, cos) = along[w * 2 * tile..(w + 1) * 2 * tile].split_at_mut(tile);
+        for (k, (s, c)) in sin.iter_mut().zip(cos.iter_mut()).enumerate() {
+            (*s, *c) = sin_cos_pi::<F>(reduce(k as i32 as f64 * dq));
         }
-        *s = ps * r;
-        *co = pc;
+        let at = w * tiles..(w + 1) * tiles;
+        let firsts = ts[at.clone()].iter_mut().zip(&mut scales[at]);
+        for (s, (t, scale)) in firsts.enumerate() {
+            let (sb, cb) = sin_cos_pi::<F>(reduce(q0 + (s * tile) as i32 as f64 * dq));
+            (*t, *scale) = fused_factor(sb, cb, exps[w] + 2);
+        }
+    }
+    for s in 0..tiles {
+        let mut acc = [[[V::splat(0.0); 3]; K]; 1];
+        for (w, wave) in waves.iter().enumerate() {
+            let (t, scale) = (ts[w * tiles + s], scales[w * tiles + s]);
+            let (sa, ca) = along[w * 2 * tile..(w + 1) * 2 * tile].split_at(tile);
+            let cols = if scale < 0.0 { (sa, ca) } else { (ca, sa) };
+            let k = [wave.amp * scale.abs(), wave.cx * scale, wave.cy * scale].map(V::splat);
+            let t = (V::splat(t), V::splat(-t));
+            by_exp!(exps[w], add_tile::<V, K, 1, true>(&mut acc, cols, t, k));
+        }
+        let out = [&mut *z, &mut *nx, &mut *ny, &mut *nz];
+        if (s + 1) * tile <= n {
+            store_tile::<V, K, 1, true, true>(acc, out, s * tile);
+        } else {
+            store_tile::<V, K, 1, true, false>(acc, out, s * tile);
+        }
     }
 }
 
 /// The fast kernel's state for scattered points: the waves' constants, the instruction set,
-/// and the per-vertex sin and cos of one row.
+/// and the sin and cos buffers of one row (per vertex, or per segment and along one).
 #[derive(Clone, Debug)]
 pub struct PointsKernel {
     isa: Isa,
+    fused: bool,
     waves: Vec<WaveConsts>,
     turns: Vec<[f32; 3]>,
+    turns_f64: Vec<[f64; 3]>,
     sin: Vec<f32>,
     cos: Vec<f32>,
+    along: Vec<f32>,
+    ts: Vec<f32>,
+    scales: Vec<f32>,
 }
 
 impl PointsKernel {
@@ -86,12 +305,19 @@ impl PointsKernel {
     /// A kernel forced to `isa`, one of `Isa::available()`.
     pub fn with_isa(waves: &WaveSet, isa: Isa) -> Self {
         assert!(Isa::available().contains(&isa), "{isa:?} not supported");
+        let waves = WaveConsts::from_set(waves);
         PointsKernel {
             isa,
-            waves: WaveConsts::from_set(waves),
+            // As on the regular grid (`FastKernel::with_isa`): fused tiles pay on AVX-512 only.
+            fused: isa == Isa::Avx512 && fused::covers(&waves),
+            waves,
             turns: Vec::new(),
+            turns_f64: Vec::new(),
             sin: Vec::new(),
             cos: Vec::new(),
+            along: vec![0.0; 2 * SEG],
+            ts: Vec::new(),
+            scales: Vec::new(),
         }
     }
 
@@ -105,14 +331,22 @@ impl PointsKernel {
         self.turns.clear();
         let at_t = self.waves.iter().map(|w| w.point_turns(t as f64));
         self.turns.extend(at_t);
+        self.turns_f64.clear();
+        let at_t = self.waves.iter().map(|w| w.point_turns_f64(t as f64));
+        self.turns_f64.extend(at_t);
         simd::dispatch(
             self.isa,
             Points {
+                fused: self.fused,
                 waves: &self.waves,
                 turns: &self.turns,
+                turns_f64: &self.turns_f64,
                 rows,
                 sin: &mut self.sin,
                 cos: &mut self.cos,
+                along: &mut self.along,
+                ts: &mut self.ts,
+                scales: &mut self.scales,
             },
         );
     }
@@ -120,11 +354,16 @@ impl PointsKernel {
 
 /// One step at scattered points, for [`simd::dispatch`].
 struct Points<'a, 'm> {
+    fused: bool,
     waves: &'a [WaveConsts],
     turns: &'a [[f32; 3]],
+    turns_f64: &'a [[f64; 3]],
     rows: MeshRows<'m>,
     sin: &'a mut [f32],
     cos: &'a mut [f32],
+    along: &'a mut Vec<f32>,
+    ts: &'a mut Vec<f32>,
+    scales: &'a mut Vec<f32>,
 }
 
 impl simd::ForIsa for Points<'_, '_> {
@@ -135,11 +374,16 @@ impl simd::ForIsa for Points<'_, '_> {
     #[inline(always)]
     fn run<const F: bool, const K: usize, V: Vector>(self) {
         let Points {
+            fused,
             waves,
             turns,
+            turns_f64,
             rows,
             sin,
             cos,
+            along,
+            ts,
+            scales,
         } = self;
         let n = rows.grid.n;
         let xs = rows.x.chunks_exact(n).zip(rows.y.chunks_exact(n));
@@ -150,9 +394,34 @@ impl simd::ForIsa for Points<'_, '_> {
             nz: rows.nz,
         };
         for ((x, y), [z, nx, ny, nz]) in xs.zip(outs.rows(n)) {
+            let line = Line::of(x, y);
+            if let (Some(line), true) = (line, fused) {
+                let scratch = [&mut *along, &mut *ts, &mut *scales];
+                line_fused::<F, V, K>(waves, turns_f64, line, scratch, [z, nx, ny, nz]);
+                continue;
+            }
             z.fill(0.0);
             nx.fill(0.0);
             ny.fill(0.0);
+            if let Some(line) = line {
+                let segs = n.div_ceil(SEG);
+                let (first_sin, first_cos) = (&mut sin[..segs], &mut cos[..segs]);
+                let (along_sin, rest) = along.split_at_mut(SEG);
+                let along_cos = &mut rest[..SEG];
+                for (wave, &turns) in waves.iter().zip(turns_f64) {
+                    let angles = [&mut *first_sin, &mut *first_cos, along_sin, along_cos];
+                    line_angles::<F>(turns, line, angles);
+                    let angles = [&*first_sin, &*first_cos, &*along_sin, &*along_cos];
+                    match wave.power {
+                        Power::Int(e) => {
+                            by_exp!(e, E => line_wave::<F>(angles, wave, IntExp::<E>, z, nx, ny))
+                        }
+                        Power::General(e) => line_wave::<F>(angles, wave, e, z, nx, ny),
+                    }
+                }
+                V::slopes_to_normals::<F>(nx, ny, nz);
+                continue;
+            }
             for (wave, &turns) in waves.iter().zip(turns) {
                 half_angles::<F>(turns, x, y, sin, cos);
                 // Row values 0 and 1: the angle addition then returns each vertex's own sin
@@ -167,5 +436,116 @@ impl simd::ForIsa for Points<'_, '_> {
             }
             V::slopes_to_normals::<F>(nx, ny, nz);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::Camera;
+    use crate::ocean::mesh::{Grid, Mesh};
+
+    #[test]
+    fn an_evenly_spaced_row_is_a_line_and_a_bent_or_broken_one_is_not() {
+        let n = 100;
+        let x: Vec<f32> = (0..n).map(|j| 3.0 + 0.5 * j as f32).collect();
+        let y: Vec<f32> = (0..n).map(|j| -2.0 - 0.25 * j as f32).collect();
+        let line = Line::of(&x, &y).expect("an evenly spaced row");
+        assert_eq!(
+            (line.x0, line.dx, line.y0, line.dy),
+            (3.0, 0.5, -2.0, -0.25)
+        );
+        let moved = |k: usize, by: f32| {
+            let mut x = x.clone();
+            x[k] += by;
+            Line::of(&x, &y)
+        };
+        // One vertex off by far more than rounding, anywhere in the row.
+        assert_eq!(moved(37, 1e-3), None);
+        assert_eq!(moved(1, -1e-3), None);
+        // Off by less than the tolerance (a unit in the last place at 52.5).
+        assert!(moved(99, 52.5f32.next_up() - 52.5).is_some());
+        let mut nan = y.clone();
+        nan[50] = f32::NAN;
+        assert_eq!(Line::of(&x, &nan), None);
+        let (ax, ay): (Vec<f32>, Vec<f32>) = (0..n)
+            .map(|j| (j as f32 * 0.01).sin_cos())
+            .map(|(s, c)| (50.0 * s, 50.0 * c))
+            .unzip();
+        assert_eq!(Line::of(&ax, &ay), None, "an arc");
+        assert_eq!(Line::of(&x[..1], &y[..1]), None, "one vertex");
+    }
+
+    #[test]
+    fn rows_on_lines_and_off_them_give_the_surface_at_their_points() {
+        let waves = WaveSet::default();
+        let n = 100;
+        let grid = Grid::new(n, 1.0).unwrap();
+        let mut mesh = Mesh::new(grid);
+        // Each row a line of its own spacing, from under a metre between vertices to several
+        // wavelengths (a phase advance of more than a turn per vertex); every fifth row bent
+        // off its line, so the per-vertex path runs beside the line path.
+        let mut bent = 0;
+        for i in 0..n {
+            let (x0, y0) = (-40.0 + i as f32, 7.0 - 0.5 * i as f32);
+            let (dx, dy) = (0.3 + 0.7 * i as f32, 0.2 * i as f32 - 5.0);
+            for j in 0..n {
+                let v = grid.index(i, j);
+                mesh.x[v] = x0 + j as f32 * dx;
+                mesh.y[v] = y0 + j as f32 * dy;
+                if i % 5 == 0 {
+                    mesh.x[v] += (j as f32 * 0.3).sin();
+                }
+            }
+            let row = i * n..(i + 1) * n;
+            bent += Line::of(&mesh.x[row.clone()], &mesh.y[row]).is_none() as usize;
+        }
+        assert_eq!(bent, n / 5);
+        for isa in Isa::available() {
+            for t in [0.0, 37.25] {
+                PointsKernel::with_isa(&waves, isa).step_rows(mesh.rows_mut(0..n), t);
+                for v in 0..n * n {
+                    let (x, y, t) = (mesh.x[v] as f64, mesh.y[v] as f64, t as f64);
+                    let z = waves.height_f64(x, y, t);
+                    let normal = waves.normal_f64(x, y, t);
+                    let got = [mesh.nx[v], mesh.ny[v], mesh.nz[v]].map(f64::from);
+                    let off = (0..3)
+                        .map(|k| (got[k] - normal[k]).abs())
+                        .fold(0.0, f64::max);
+                    let at = format!("{isa:?} t {t} vertex {v} ({x}, {y})");
+                    assert!(
+                        (mesh.z[v] as f64 - z).abs() < 1e-4,
+                        "{at}: z {} vs {z}",
+                        mesh.z[v]
+                    );
+                    assert!(off < 1e-4, "{at}: normal {got:?} vs {normal:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_default_camera_s_rows_short_of_far_are_lines_and_its_far_row_is_not() {
+        let n = 256;
+        let grid = Grid::new(n, 1.0).unwrap();
+        let view = Camera::default().view_at(grid, 1.5);
+        let mut mesh = Mesh::new(grid);
+        crate::projected::place(&view, &mut mesh.rows_mut(0..n));
+        let (mut short, mut clamped) = (0, 0);
+        for i in 0..n {
+            let (x, y) = (&mesh.x[i * n..][..n], &mesh.y[i * n..][..n]);
+            let reach = |j: usize| (x[j] - view.eye.x).hypot(y[j] - view.eye.y);
+            if (0..n).all(|j| reach(j) < 0.999 * view.far) {
+                assert!(Line::of(x, y).is_some(), "row {i} is short of far");
+                short += 1;
+            } else if (0..n).all(|j| reach(j) > 0.999 * view.far) {
+                assert_eq!(Line::of(x, y), None, "row {i} lies on the far arc");
+                clamped += 1;
+            }
+        }
+        assert!(
+            short > n / 2 && clamped > 0,
+            "{short} rows short of far, {clamped} clamped"
+        );
     }
 }
