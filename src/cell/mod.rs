@@ -529,4 +529,101 @@ mod tests {
             }
         }
     }
+
+    /// The default axes with `dim` listing `values` (parsed as a config names them).
+    fn axes_with(changes: &[(Dim, &[&str])]) -> Axes {
+        let mut axes = Axes::default();
+        for &(dim, values) in changes {
+            let values: Vec<Value> = values.iter().map(|v| dim.parse_value(v).unwrap()).collect();
+            axes.set(dim, &values).unwrap();
+        }
+        axes
+    }
+
+    #[test]
+    fn depth_and_helpers_out_of_range_are_refused_by_key() {
+        let refused = |dim: Dim, v: &str| axes_with(&[(dim, &[v])]).check().unwrap_err().0;
+        assert_eq!(
+            refused(Dim::Depth, "0"),
+            format!("depth: must be 1 to {MAX_DEPTH}, got 0")
+        );
+        let over = (MAX_DEPTH + 1).to_string();
+        assert_eq!(
+            refused(Dim::Depth, &over),
+            format!("depth: must be 1 to {MAX_DEPTH}, got {over}")
+        );
+        assert_eq!(
+            refused(Dim::Helpers, "0"),
+            format!("helpers: must be 1 to {MAX_HELPERS}, got 0")
+        );
+        let over = (MAX_HELPERS + 1).to_string();
+        assert_eq!(
+            refused(Dim::Helpers, &over),
+            format!("helpers: must be 1 to {MAX_HELPERS}, got {over}")
+        );
+        for (dim, top) in [(Dim::Depth, MAX_DEPTH), (Dim::Helpers, MAX_HELPERS)] {
+            let edges = ["1".to_string(), top.to_string()];
+            let edges: Vec<&str> = edges.iter().map(String::as_str).collect();
+            assert_eq!(axes_with(&[(dim, &edges)]).check(), Ok(()), "{dim:?}");
+        }
+    }
+
+    #[test]
+    fn a_row_label_names_the_row_dimensions_alone() {
+        let axes = axes_with(&[
+            (Dim::Size, &["128"]),
+            (Dim::Workload, &["2"]),
+            (Dim::Mode, &["dp"]),
+            (Dim::Kernel, &["fast"]),
+            (Dim::Ocean, &["fft"]),
+            (Dim::Normals, &["analytic"]),
+        ]);
+        let cells = axes.cells();
+        assert!(!cells.is_empty());
+        for cell in cells {
+            assert_eq!(cell.row_label(), "128 w2 analytic fft fast", "{cell:?}");
+        }
+    }
+
+    #[test]
+    fn normals_nobody_named_fit_the_cells_and_say_so() {
+        let mut axes = axes_with(&[(Dim::Grid, &["projected"])]);
+        let note = axes
+            .fit_default_normals()
+            .expect("neighbors cannot run projected");
+        assert!(
+            note.starts_with("normals analytic: the default (neighbors) cannot run these cells ("),
+            "{note}"
+        );
+        assert_eq!(axes.normals, vec![NormalMethod::Analytic]);
+        assert_eq!(axes.refusal(), None);
+        let mut axes = Axes::default();
+        assert_eq!(axes.fit_default_normals(), None);
+        assert_eq!(axes.normals, vec![NormalMethod::Neighbors]);
+        let mut none = Axes {
+            ocean: vec![],
+            ..Axes::default()
+        };
+        assert_eq!(none.fit_default_normals(), None);
+    }
+
+    #[test]
+    fn a_listed_value_no_runnable_cell_has_is_refused_with_the_reason() {
+        assert_eq!(Axes::default().check_coverage(), Ok(()));
+        assert_eq!(Axes::default().refusal(), None);
+        // Projected needs analytic normals: with neighbors only, no projected cell is left,
+        // while the regular grid's still run.
+        for grids in [&["projected"][..], &["regular", "projected"]] {
+            let axes = axes_with(&[(Dim::Grid, grids)]);
+            let err = axes.check_coverage().unwrap_err().0;
+            assert!(err.starts_with("normals: "), "{grids:?}: {err}");
+            assert_eq!(axes.refusal().map(|e| e.0), Some(err));
+        }
+        // Spray cannot run on the sines: beside a kind that can, only its cells go (the
+        // sweep says so once); alone, nothing would run.
+        let kinds = [(Dim::WorkloadKind, &["synthetic", "spray"][..])];
+        assert_eq!(axes_with(&kinds).check_coverage(), Ok(()));
+        let alone = axes_with(&[(Dim::WorkloadKind, &["spray"])]);
+        assert!(alone.check_coverage().is_err());
+    }
 }
