@@ -625,5 +625,13 @@ mod tests {
         assert_eq!(axes_with(&kinds).check_coverage(), Ok(()));
         let alone = axes_with(&[(Dim::WorkloadKind, &["spray"])]);
         assert!(alone.check_coverage().is_err());
+        // One method of three the FFT ocean does not offer, while the other two run: that
+        // method alone is refused, by its own reason.
+        let three = axes_with(&[
+            (Dim::Ocean, &["fft"]),
+            (Dim::Normals, &["neighbors", "analytic", "lookup"]),
+        ]);
+        let err = three.check_coverage().unwrap_err().0;
+        assert!(err.contains("lookup"), "{err}");
     }
 }
