@@ -129,6 +129,15 @@ impl Phases {
     /// Moves the wake-up so that the change comes about [`AHEAD_NS`] into the spin after it:
     /// back by an eighth of the wait when it came first, forward by half the error otherwise.
     fn learn_ahead(&self, outcome: Ahead) {
+        // loom does not model time, and a model must not branch on the clock: how long a wait
+        // under loom took depends on how busy the machine is, and a wake-up learnt from it would
+        // take `AHEAD_LONG_NS`'s branch in some explorations of a schedule and not in others.
+        let ns = |v: u64| if cfg!(loom) { 0 } else { v };
+        let outcome = match outcome {
+            Ahead::Late { waited } => Ahead::Late { waited: ns(waited) },
+            Ahead::Caught { spun } => Ahead::Caught { spun: ns(spun) },
+            Ahead::Missed { spun } => Ahead::Missed { spun: ns(spun) },
+        };
         let wake = self.wake_ns.load(Relaxed);
         let misses = self.wake_misses.load(Relaxed);
         let (wake, misses) = match outcome {
@@ -144,6 +153,8 @@ impl Phases {
     /// Grows the phase that caught the wait, shrinks the ones it went past: `spun` polls were
     /// made, and `after` is the time since the spin ended (zero when the spin caught it).
     fn learn(&self, bounds: &SpinBounds, phase: Phase, spun: u64, after: Duration) {
+        // As in `learn_ahead`: nothing learnt under loom may come from the clock.
+        let after = if cfg!(loom) { Duration::ZERO } else { after };
         let waited = polls::to_ns(spun, bounds.per_us) + after.as_nanos() as u64;
         let (spin, yielded) = (self.spin_polls.load(Relaxed), self.yield_ns.load(Relaxed));
         // A spin that caught a wait keeps at least a probe's length, and one that missed loses a
