@@ -20,17 +20,34 @@ use std::sync::Arc;
 /// lines and a strip of N rows (32 KiB at N = 512) transposes inside L1.
 pub const STRIP: usize = 8;
 
+/// The field size from which the row pass writes its strips with non-temporal stores. Past it
+/// the strips of a step's fields no longer stay in the caches until the column pass reads them
+/// (the four fields of a 1024² step are 32 MiB), and each line the row pass writes, a row's
+/// stride apart from the last, would first be read from memory only to be overwritten. Below
+/// it, the column pass finds the strips in cache. Measured on the Intel Xeon VM: the 512² step
+/// (2 MiB a field) is slower streamed, the 1024² and 2048² steps faster
+/// (docs/fft-ocean.md, "What it computes").
+pub const STREAM_FIELD_BYTES: usize = 8 << 20;
+
+/// One row's columns of one strip: a cache line, aligned so that the row pass writes whole
+/// lines and never splits one across two.
+#[derive(Clone, Copy, Debug, Default)]
+#[repr(C, align(64))]
+pub struct Line(pub [Complex<f32>; STRIP]);
+
 /// The row pass's output for rows `b0..b0 + rows` of a field, strip by strip: strip s holds,
-/// for each row, the row's columns s·STRIP.. (padded to STRIP), so a column chunk is read from
-/// contiguous memory.
+/// for each row, the row's columns s·STRIP.. (padded to STRIP) as one [`Line`], so a column
+/// chunk is read from contiguous memory.
 #[derive(Clone, Debug, Default)]
 pub struct Strips {
     /// First row held.
     pub first: usize,
     /// Rows held.
     pub rows: usize,
-    /// ceil(N / STRIP) strips of `rows` × STRIP values.
-    pub data: Vec<Complex<f32>>,
+    /// ceil(N / STRIP) strips of `rows` lines.
+    pub lines: Vec<Line>,
+    /// Whether the row pass writes the lines past the caches ([`STREAM_FIELD_BYTES`]).
+    pub streamed: bool,
 }
 
 impl Strips {
@@ -39,7 +56,8 @@ impl Strips {
         Strips {
             first: rows.start,
             rows: rows.len(),
-            data: vec![Complex::default(); n.div_ceil(STRIP) * STRIP * rows.len()],
+            lines: vec![Line::default(); n.div_ceil(STRIP) * rows.len()],
+            streamed: n * n * std::mem::size_of::<Complex<f32>>() >= STREAM_FIELD_BYTES,
         }
     }
 
@@ -93,24 +111,27 @@ impl Inverse2d {
     pub fn row_pass(&mut self, rows: &mut [Complex<f32>], first: usize, out: &mut Strips) {
         let n = self.n;
         self.rows(rows);
-        let per_strip = out.rows * STRIP;
         for (r, row) in rows.chunks_exact(n).enumerate() {
             let b = first + r;
             debug_assert!(out.holds(b), "row {b} is not in these strips");
-            let at = (b - out.first) * STRIP;
+            let at = b - out.first;
             let whole = row.chunks_exact(STRIP);
             let rest = whole.remainder();
             for (s, columns) in whole.enumerate() {
-                let to = s * per_strip + at;
-                // Fixed-size: one line of vector moves rather than a call to memmove.
-                let line: &mut [Complex<f32>; STRIP] =
-                    (&mut out.data[to..to + STRIP]).try_into().expect("a line");
-                *line = columns.try_into().expect("a line");
+                let line: &[Complex<f32>; STRIP] = columns.try_into().expect("a line");
+                let to = &mut out.lines[s * out.rows + at];
+                if out.streamed {
+                    stream(to, line);
+                } else {
+                    to.0 = *line;
+                }
             }
             if !rest.is_empty() {
-                let to = (n / STRIP) * per_strip + at;
-                out.data[to..to + rest.len()].copy_from_slice(rest);
+                out.lines[(n / STRIP) * out.rows + at].0[..rest.len()].copy_from_slice(rest);
             }
+        }
+        if out.streamed {
+            fence();
         }
     }
 
@@ -145,11 +166,11 @@ fn gather(parts: &[&Strips], columns: Range<usize>, n: usize, out: &mut [Complex
     let s = columns.start / STRIP;
     let (w0, w1) = (columns.start % STRIP, columns.end - s * STRIP);
     for part in parts {
-        let strip = &part.data[s * part.rows * STRIP..(s + 1) * part.rows * STRIP];
+        let strip = &part.lines[s * part.rows..(s + 1) * part.rows];
         if (w0, w1) == (0, STRIP) {
             // A whole strip: eight rows at a time, an 8×8 block in registers, so that each
             // output row takes a whole line.
-            let blocks = strip.chunks_exact(STRIP * STRIP);
+            let blocks = strip.chunks_exact(STRIP);
             let done = blocks.len() * STRIP;
             for (k, block) in blocks.enumerate() {
                 let b = part.first + k * STRIP;
@@ -157,23 +178,56 @@ fn gather(parts: &[&Strips], columns: Range<usize>, n: usize, out: &mut [Complex
                     let to: &mut [Complex<f32>; STRIP] = (&mut out[c * n + b..c * n + b + STRIP])
                         .try_into()
                         .expect("a line");
-                    *to = std::array::from_fn(|r| block[r * STRIP + c]);
+                    *to = std::array::from_fn(|r| block[r].0[c]);
                 }
             }
-            for (r, line) in strip.chunks_exact(STRIP).enumerate().skip(done) {
-                for (c, value) in line.iter().enumerate() {
+            for (r, line) in strip.iter().enumerate().skip(done) {
+                for (c, value) in line.0.iter().enumerate() {
                     out[c * n + part.first + r] = *value;
                 }
             }
             continue;
         }
-        for (r, line) in strip.chunks_exact(STRIP).enumerate() {
+        for (r, line) in strip.iter().enumerate() {
             let b = part.first + r;
-            for (c, value) in line[w0..w1].iter().enumerate() {
+            for (c, value) in line.0[w0..w1].iter().enumerate() {
                 out[c * n + b] = *value;
             }
         }
     }
+}
+
+/// `*to = *from` with non-temporal stores: the line goes to memory without first being read
+/// into the cache.
+#[inline(always)]
+fn stream(to: &mut Line, from: &[Complex<f32>; STRIP]) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_loadu_ps, _mm_stream_ps};
+        let from = from.as_ptr().cast::<f32>();
+        let to = std::ptr::from_mut(to).cast::<f32>();
+        for k in 0..2 * STRIP / 4 {
+            // SAFETY: SSE is part of x86_64; both pointers cover the STRIP complex (2·STRIP
+            // f32) of a line, and `to` is 64-byte aligned (`Line`), so each 16-byte store is
+            // aligned as `_mm_stream_ps` requires.
+            unsafe { _mm_stream_ps(to.add(4 * k), _mm_loadu_ps(from.add(4 * k))) };
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        to.0 = *from;
+    }
+}
+
+/// Orders the row pass's non-temporal stores before whatever reads the strips next: the
+/// column pass on this thread, or on another helper after the phase barrier.
+#[inline(always)]
+fn fence() {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: SSE is part of x86_64.
+    unsafe {
+        std::arch::x86_64::_mm_sfence()
+    };
 }
 
 #[cfg(test)]
@@ -224,5 +278,32 @@ mod tests {
         assert!(out[..n] == whole[39 * n..]);
         assert!(out[n..41 * n] == whole[..]);
         assert!(out[41 * n..] == whole[..n]);
+    }
+
+    #[test]
+    fn strips_streamed_past_the_caches_hold_the_same_bits() {
+        // 40 is not a multiple of STRIP: the last strip's padded lines are written plainly.
+        for n in [40, 64] {
+            let field: Vec<Complex<f32>> = (0..n * n)
+                .map(|e| Complex::new((e as f32 * 0.23).cos(), (e as f32 * 0.71).sin()))
+                .collect();
+            let mut inverse = Inverse2d::new(n);
+            let pass = |inverse: &mut Inverse2d, streamed: bool| {
+                let mut strips = Strips::new(n, 3..n);
+                assert!(!strips.streamed, "a small field is not streamed by default");
+                strips.streamed = streamed;
+                inverse.row_pass(&mut field[3 * n..].to_vec(), 3, &mut strips);
+                strips
+            };
+            let (cached, streamed) = (pass(&mut inverse, false), pass(&mut inverse, true));
+            assert!(cached
+                .lines
+                .iter()
+                .zip(&streamed.lines)
+                .all(|(a, b)| a.0 == b.0));
+            assert_eq!(cached.lines.len(), streamed.lines.len());
+        }
+        assert!(Strips::new(1024, 0..1).streamed, "a 1024² field is 8 MiB");
+        assert!(!Strips::new(512, 0..512).streamed);
     }
 }
