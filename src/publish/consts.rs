@@ -154,6 +154,11 @@ pub fn all() -> Vec<(&'static str, &'static str, String)> {
             crate::ocean::fft::transform::STRIP.to_string(),
         ),
         (
+            "fft_stream_field_mib",
+            "the field size, in MiB, from which the FFT ocean's row pass writes its strips with non-temporal stores",
+            (crate::ocean::fft::transform::STREAM_FIELD_BYTES >> 20).to_string(),
+        ),
+        (
             "fft_default_patch_metres",
             "the FFT ocean's default patch side L, in metres",
             format!("{}", fft_defaults.patch_metres),

@@ -24,8 +24,8 @@ pub const STRIP: usize = 8;
 /// the strips of a step's fields no longer stay in the caches until the column pass reads them
 /// (the four fields of a 1024² step are 32 MiB), and each line the row pass writes, a row's
 /// stride apart from the last, would first be read from memory only to be overwritten. Below
-/// it, the column pass finds the strips in cache. Measured on the Intel Xeon VM: the 512² step
-/// (2 MiB a field) is slower streamed, the 1024² and 2048² steps faster
+/// it, the column pass finds the strips in cache. On the Intel Xeon VM the 512² step (2 MiB a
+/// field) was slower streamed in a quick trial, the 1024² and 2048² steps faster
 /// (docs/fft-ocean.md, "What it computes").
 pub const STREAM_FIELD_BYTES: usize = 8 << 20;
 
