@@ -156,7 +156,7 @@ pub fn all() -> Vec<(&'static str, &'static str, String)> {
         (
             "fft_stream_field_mib",
             "the field size, in MiB, from which the FFT ocean's row pass writes its strips with non-temporal stores",
-            (crate::ocean::fft::transform::STREAM_FIELD_BYTES >> 20).to_string(),
+            (crate::ocean::fft::stream::STREAM_FIELD_BYTES >> 20).to_string(),
         ),
         (
             "fft_default_patch_metres",

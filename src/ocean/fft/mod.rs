@@ -6,6 +6,7 @@ mod fill;
 pub mod points;
 pub mod size;
 pub mod spectrum;
+pub mod stream;
 pub mod terms;
 pub mod transform;
 
@@ -300,6 +301,7 @@ impl FftState {
                 // Exact: the scale is a power of two.
                 unscale: 1.0 / terms.dxy_scale,
                 analytic: normals == NormalMethod::Analytic,
+                stream: stream::past_the_caches(n),
             },
             faces: (normals == NormalMethod::Neighbors).then(|| FaceNormals::new(grid)),
             passes: Passes {

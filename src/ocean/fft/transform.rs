@@ -11,6 +11,7 @@
 //! same calls on the same values however the rows are grouped, so any split of the rows among
 //! helpers gives the same bits.
 
+use super::stream;
 use rustfft::num_complex::Complex;
 use rustfft::{Fft, FftPlanner};
 use std::ops::Range;
@@ -19,15 +20,6 @@ use std::sync::Arc;
 /// Columns per strip: 8 complex f32 are one 64-byte cache line, so the row pass writes whole
 /// lines and a strip of N rows (32 KiB at N = 512) transposes inside L1.
 pub const STRIP: usize = 8;
-
-/// The field size from which the row pass writes its strips with non-temporal stores. Past it
-/// the strips of a step's fields no longer stay in the caches until the column pass reads them
-/// (the four fields of a 1024² step are 32 MiB), and each line the row pass writes, a row's
-/// stride apart from the last, would first be read from memory only to be overwritten. Below
-/// it, the column pass finds the strips in cache. On the Intel Xeon VM the 512² step (2 MiB a
-/// field) was slower streamed in a quick trial, the 1024² and 2048² steps faster
-/// (docs/fft-ocean.md, "What it computes").
-pub const STREAM_FIELD_BYTES: usize = 8 << 20;
 
 /// One row's columns of one strip: a cache line, aligned so that the row pass writes whole
 /// lines and never splits one across two.
@@ -46,7 +38,7 @@ pub struct Strips {
     pub rows: usize,
     /// ceil(N / STRIP) strips of `rows` lines.
     pub lines: Vec<Line>,
-    /// Whether the row pass writes the lines past the caches ([`STREAM_FIELD_BYTES`]).
+    /// Whether the row pass writes the lines past the caches ([`stream::past_the_caches`]).
     pub streamed: bool,
 }
 
@@ -57,7 +49,7 @@ impl Strips {
             first: rows.start,
             rows: rows.len(),
             lines: vec![Line::default(); n.div_ceil(STRIP) * rows.len()],
-            streamed: n * n * std::mem::size_of::<Complex<f32>>() >= STREAM_FIELD_BYTES,
+            streamed: stream::past_the_caches(n),
         }
     }
 
@@ -121,7 +113,7 @@ impl Inverse2d {
                 let line: &[Complex<f32>; STRIP] = columns.try_into().expect("a line");
                 let to = &mut out.lines[s * out.rows + at];
                 if out.streamed {
-                    stream(to, line);
+                    stream::line(&mut to.0, line);
                 } else {
                     to.0 = *line;
                 }
@@ -131,7 +123,7 @@ impl Inverse2d {
             }
         }
         if out.streamed {
-            fence();
+            stream::fence();
         }
     }
 
@@ -195,39 +187,6 @@ fn gather(parts: &[&Strips], columns: Range<usize>, n: usize, out: &mut [Complex
             }
         }
     }
-}
-
-/// `*to = *from` with non-temporal stores: the line goes to memory without first being read
-/// into the cache.
-#[inline(always)]
-fn stream(to: &mut Line, from: &[Complex<f32>; STRIP]) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::arch::x86_64::{_mm_loadu_ps, _mm_stream_ps};
-        let from = from.as_ptr().cast::<f32>();
-        let to = std::ptr::from_mut(to).cast::<f32>();
-        for k in 0..2 * STRIP / 4 {
-            // SAFETY: SSE is part of x86_64; both pointers cover the STRIP complex (2·STRIP
-            // f32) of a line, and `to` is 64-byte aligned (`Line`), so each 16-byte store is
-            // aligned as `_mm_stream_ps` requires.
-            unsafe { _mm_stream_ps(to.add(4 * k), _mm_loadu_ps(from.add(4 * k))) };
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        to.0 = *from;
-    }
-}
-
-/// Orders the row pass's non-temporal stores before whatever reads the strips next: the
-/// column pass on this thread, or on another helper after the phase barrier.
-#[inline(always)]
-fn fence() {
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: SSE is part of x86_64.
-    unsafe {
-        std::arch::x86_64::_mm_sfence()
-    };
 }
 
 #[cfg(test)]
@@ -303,7 +262,6 @@ mod tests {
                 .all(|(a, b)| a.0 == b.0));
             assert_eq!(cached.lines.len(), streamed.lines.len());
         }
-        assert!(Strips::new(1024, 0..1).streamed, "a 1024² field is 8 MiB");
-        assert!(!Strips::new(512, 0..512).streamed);
+        assert!(Strips::new(1024, 0..1).streamed);
     }
 }
