@@ -6,6 +6,7 @@ mod common;
 use common::{five_trials, fixture, oceanbench};
 use oceanbench::cell::Dim;
 use oceanbench::report::compare::{self, CompareError, Comparison, Metric, Verdict};
+use oceanbench::results::latency::LatencyRun;
 use oceanbench::results::{Cell, Results};
 use std::path::Path;
 
@@ -703,4 +704,73 @@ fn placement_compares_the_trials_of_one_placement() {
         Metric::Fps,
     );
     assert!(none.nothing_compared().is_some(), "{}", none.to_text());
+}
+
+/// Two trials a side are resampled: a point estimate is kept for a side of one trial alone.
+#[test]
+fn two_trials_a_side_get_an_interval_and_one_trial_either_side_is_marked() {
+    let r = fixture();
+    let two = |a: f64, b: f64| one_cell(&r, &[a, b]);
+    let c = compare::between(&two(100.0, 104.0), &two(90.0, 96.0), 5.0, Metric::Fps);
+    let ch = &c.changes[0];
+    assert!(!ch.single_trial, "two trials are not one");
+    assert!(ch.ci_low_pct < ch.ci_high_pct, "{ch:?}");
+    assert_eq!(ch.verdict, Verdict::TooFewTrials);
+    // One trial in the new run alone, as the base's alone is elsewhere.
+    let five = one_cell(&r, &[100.0, 101.0, 99.0, 100.0, 100.0]);
+    let ch = &compare::between(&five, &one_cell(&r, &[80.0]), 5.0, Metric::Fps).changes[0];
+    assert!(ch.single_trial);
+    assert_eq!(
+        (ch.ci_low_pct, ch.ci_high_pct),
+        (ch.change_pct, ch.change_pct)
+    );
+}
+
+/// A latency row is marked noisy when one of its repeats, in either run, lost its pins.
+#[test]
+fn a_latency_row_with_an_unpinned_repeat_is_marked_noisy() {
+    let base = LatencyRun::load(Path::new("results/latency-20261127T193624Z")).unwrap();
+    assert!(base.rows.iter().flat_map(|r| &r.repeats).all(|r| r.pinned));
+    let mut new = base.clone();
+    new.rows[3].repeats[2].pinned = false;
+    let unpinned = new.rows[3].label();
+    for (b, n) in [(&base, &new), (&new, &base)] {
+        let c = compare::latency_between(b, n, 5.0);
+        assert_eq!(c.changes.len(), base.rows.len());
+        for ch in &c.changes {
+            assert_eq!(ch.noisy, ch.label == unpinned, "{}", ch.label);
+        }
+    }
+}
+
+/// An interval that touches the threshold, or zero, is not past it. Every value here is exact
+/// in binary (68 ÷ 64 − 1 is 6.25 %), and a third of the resamples draw no outlier, so the
+/// interval's near end lies exactly on the bound.
+#[test]
+fn an_interval_touching_a_bound_is_not_past_it() {
+    let r = fixture();
+    let base = one_cell(&r, &[64.0; 5]);
+    let verdict = |new: &[f64]| {
+        let c = compare::between(&base, &one_cell(&r, new), 6.25, Metric::Fps);
+        let ch = c.changes[0].clone();
+        (ch.ci_low_pct, ch.ci_high_pct, ch.verdict)
+    };
+    let (low, high, v) = verdict(&[68.0, 68.0, 68.0, 68.0, 72.0]);
+    assert_eq!(low, 6.25, "the interval starts on the threshold");
+    assert!(high > 6.25);
+    assert_eq!(v, Verdict::BelowThreshold);
+    let (low, high, v) = verdict(&[60.0, 60.0, 60.0, 60.0, 56.0]);
+    assert_eq!(high, -6.25, "the interval ends on minus the threshold");
+    assert!(low < -6.25);
+    assert_eq!(v, Verdict::BelowThreshold);
+    let (low, high, v) = verdict(&[64.0, 64.0, 64.0, 64.0, 66.0]);
+    assert_eq!(
+        (low, high > 0.0),
+        (0.0, true),
+        "the interval starts on zero"
+    );
+    assert_eq!(v, Verdict::WithinNoise);
+    let (low, high, v) = verdict(&[64.0, 64.0, 64.0, 64.0, 62.0]);
+    assert_eq!((low < 0.0, high), (true, 0.0), "the interval ends on zero");
+    assert_eq!(v, Verdict::WithinNoise);
 }
