@@ -11,7 +11,6 @@
 //! same IEEE operations run on every instruction set (no fused multiply-add is formed), so
 //! helpers agree bit for bit whichever set each runs.
 
-use super::stream;
 use crate::ocean::mesh::MeshRows;
 use rustfft::num_complex::Complex;
 use std::ops::Range;
@@ -40,9 +39,6 @@ pub struct Fill {
     pub unscale: f32,
     /// Whether to write the analytic normal (otherwise face normals follow).
     pub analytic: bool,
-    /// Whether each row is made in cache and then written to the mesh with non-temporal
-    /// stores: a mesh past the caches ([`stream::past_the_caches`]).
-    pub stream: bool,
 }
 
 /// One row's derivatives: the Jacobian [[a, b], [b, d]] of (x, y) ↦ (x + λDx, y + λDy) and the
@@ -97,8 +93,6 @@ impl Fill {
             sx: vec![0.0; n],
             sy: vec![0.0; n],
         };
-        // The rows made in cache before they are streamed (empty when not streaming).
-        let mut row = vec![0.0; if self.stream { 9 * n } else { 0 }];
         for (q, r) in these.enumerate() {
             let v = r * n..(r + 1) * n;
             let (hd, disp) = match source {
@@ -117,51 +111,28 @@ impl Fill {
                 }
             };
             let i = rows.first_row + r;
-            let mesh = [
+            self.positions(
+                i,
+                hd,
+                disp,
                 &mut rows.x[v.clone()],
                 &mut rows.y[v.clone()],
                 &mut rows.z[v.clone()],
+            );
+            self.fold(
+                &der,
                 &mut rows.fold[v.clone()],
                 &mut rows.fold_dx[v.clone()],
                 &mut rows.fold_dy[v.clone()],
-                &mut rows.nx[v.clone()],
-                &mut rows.ny[v.clone()],
-                &mut rows.nz[v],
-            ];
-            if self.stream {
-                let mut rows_made = row.chunks_exact_mut(n);
-                let mut made = std::array::from_fn(|_| rows_made.next().expect("nine rows"));
-                self.row(i, hd, disp, &der, &mut made);
-                let written = if self.analytic { 9 } else { 6 };
-                for (to, from) in mesh.into_iter().zip(made.iter()).take(written) {
-                    stream::copy(to, from);
-                }
-            } else {
-                let mut mesh = mesh;
-                self.row(i, hd, disp, &der, &mut mesh);
+            );
+            if self.analytic {
+                normals(
+                    &der,
+                    &mut rows.nx[v.clone()],
+                    &mut rows.ny[v.clone()],
+                    &mut rows.nz[v],
+                );
             }
-        }
-        if self.stream {
-            stream::fence();
-        }
-    }
-
-    /// Row i's vertex values from its derivatives into `out`: x, y, z, the fold value and its
-    /// direction, and (with `analytic`) the normal.
-    #[inline(always)]
-    fn row(
-        &self,
-        i: usize,
-        hd: &[Complex<f32>],
-        disp: &[Complex<f32>],
-        der: &Derivatives,
-        out: &mut [&mut [f32]; 9],
-    ) {
-        let [x, y, z, fold, fold_dx, fold_dy, nx, ny, nz] = out;
-        self.positions(i, hd, disp, x, y, z);
-        self.fold(der, fold, fold_dx, fold_dy);
-        if self.analytic {
-            normals(der, nx, ny, nz);
         }
     }
 

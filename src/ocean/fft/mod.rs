@@ -301,7 +301,6 @@ impl FftState {
                 // Exact: the scale is a power of two.
                 unscale: 1.0 / terms.dxy_scale,
                 analytic: normals == NormalMethod::Analytic,
-                stream: stream::past_the_caches(n),
             },
             faces: (normals == NormalMethod::Neighbors).then(|| FaceNormals::new(grid)),
             passes: Passes {
