@@ -774,3 +774,97 @@ fn an_interval_touching_a_bound_is_not_past_it() {
     assert_eq!((low < 0.0, high), (true, 0.0), "the interval ends on zero");
     assert_eq!(v, Verdict::WithinNoise);
 }
+
+/// A latency row that only one run has is listed on its side and earns no change.
+#[test]
+fn a_latency_row_in_one_run_alone_is_listed_there() {
+    let base = LatencyRun::load(Path::new("results/latency-20261127T193624Z")).unwrap();
+    let mut new = base.clone();
+    let mut extra = new.rows[0].clone();
+    extra.method = "extra".into();
+    let label = extra.label();
+    new.rows.push(extra);
+    let c = compare::latency_between(&base, &new, 5.0);
+    assert_eq!(c.only_in_new, std::slice::from_ref(&label));
+    assert!(c.only_in_base.is_empty());
+    assert_eq!(c.changes.len(), base.rows.len());
+    let c = compare::latency_between(&new, &base, 5.0);
+    assert_eq!(c.only_in_base, [label]);
+    assert!(c.only_in_new.is_empty());
+}
+
+/// Runs whose floor rows (ping-pong, the raw cross-core line) lie far apart were measured on
+/// different placements, and are told so; the other rows do not decide it.
+#[test]
+fn latency_runs_with_floors_far_apart_are_named_as_different_placements() {
+    use oceanbench::results::latency::FLOOR;
+    let base = LatencyRun::load(Path::new("results/latency-20261127T193624Z")).unwrap();
+    let placement = |c: &Comparison| {
+        c.warnings
+            .iter()
+            .any(|w| w.starts_with("different core placement"))
+    };
+    assert!(!placement(&compare::latency_between(&base, &base, 5.0)));
+    let scaled = |floor: bool| {
+        let mut run = base.clone();
+        for row in &mut run.rows {
+            if (row.method == FLOOR) == floor {
+                for r in &mut row.repeats {
+                    r.median_ns *= 3.0;
+                    r.batched_ns = r.batched_ns.map(|ns| ns * 3.0);
+                }
+            }
+        }
+        run
+    };
+    assert!(base.rows.iter().any(|r| r.method == FLOOR));
+    assert!(placement(&compare::latency_between(
+        &base,
+        &scaled(true),
+        5.0
+    )));
+    assert!(!placement(&compare::latency_between(
+        &base,
+        &scaled(false),
+        5.0
+    )));
+}
+
+/// A change is marked for placement when either run's cell mixed placements, or when the two
+/// cells' round trips put them on different placements; only when neither holds is it clean.
+#[test]
+fn a_change_is_marked_for_placement_by_either_side_or_by_their_round_trips() {
+    use oceanbench::slow_trials::TrialRecord;
+    let trial = |fps: f64, placement: &str, round_trip: f64| -> TrialRecord {
+        serde_json::from_value(serde_json::json!({
+            "fps": fps,
+            "breakdown": {"workload_ms": 0.0, "wait_ms": 1.0, "wait_cpu_ms": 1.0, "copy_ms": 0.01,
+                          "step_ms": 1.0, "other_ms": 0.0},
+            "step_ratio": 1.0, "workload_ratio": null, "round_trip_ns": [round_trip, round_trip],
+            "taken_away": false, "placement": placement
+        }))
+        .unwrap()
+    };
+    // Five trials alternating between `placements`, every one with the round trip given.
+    let run = |placements: [&str; 2], round_trip: f64| -> Results {
+        let mut r = one_cell(&fixture(), &[1.0]);
+        let cell = &mut r.cells[0];
+        cell.trials = [0.99, 0.995, 1.0, 1.005, 1.01]
+            .iter()
+            .enumerate()
+            .map(|(k, f)| trial(100.0 * f, placements[k % 2], round_trip))
+            .collect();
+        let fps: Vec<f64> = cell.trials.iter().map(|t| t.fps).collect();
+        set_trials(cell, &fps);
+        r
+    };
+    let marked = |base: &Results, new: &Results| {
+        compare::between(base, new, 5.0, Metric::Fps).changes[0].placement
+    };
+    let (near, mixed) = (run(["near", "near"], 80.0), run(["near", "far"], 80.0));
+    assert!(!marked(&near, &near));
+    assert!(marked(&mixed, &near), "the base mixed placements");
+    assert!(marked(&near, &mixed), "the new run mixed placements");
+    let slow = run(["near", "near"], 400.0);
+    assert!(marked(&near, &slow), "round trips five times apart");
+}
