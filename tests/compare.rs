@@ -24,6 +24,18 @@ fn one_cell(results: &Results, trials: &[f64]) -> Results {
     r
 }
 
+/// A trial record at `fps` in `placement`, both of its round trips `round_trip` ns.
+fn trial(fps: f64, placement: &str, round_trip: f64) -> oceanbench::slow_trials::TrialRecord {
+    serde_json::from_value(serde_json::json!({
+        "fps": fps,
+        "breakdown": {"workload_ms": 0.0, "wait_ms": 1.0, "wait_cpu_ms": 1.0, "copy_ms": 0.01,
+                      "step_ms": 1.0, "other_ms": 0.0},
+        "step_ratio": 1.0, "workload_ratio": null, "round_trip_ns": [round_trip, round_trip],
+        "taken_away": false, "placement": placement
+    }))
+    .unwrap()
+}
+
 #[test]
 fn fixture_against_itself_is_all_within_noise() {
     let r = five_trials();
@@ -649,17 +661,7 @@ fn pairs_whose_levels_came_to_other_microseconds_are_marked() {
 #[test]
 fn placement_compares_the_trials_of_one_placement() {
     use oceanbench::placement::Class;
-    use oceanbench::slow_trials::TrialRecord;
-    let trial = |fps: f64, placement: &str| -> TrialRecord {
-        serde_json::from_value(serde_json::json!({
-            "fps": fps,
-            "breakdown": {"workload_ms": 0.0, "wait_ms": 1.0, "wait_cpu_ms": 1.0, "copy_ms": 0.01,
-                          "step_ms": 1.0, "other_ms": 0.0},
-            "step_ratio": 1.0, "workload_ratio": null, "round_trip_ns": [80.0, 80.0],
-            "taken_away": false, "placement": placement
-        }))
-        .unwrap()
-    };
+    let trial = |fps: f64, placement: &str| trial(fps, placement, 80.0);
     let run = |near: f64, far: f64| -> Results {
         let mut r = one_cell(&fixture(), &[1.0]);
         let jitter = [0.99, 0.995, 1.0, 1.005, 1.01];
@@ -834,17 +836,6 @@ fn latency_runs_with_floors_far_apart_are_named_as_different_placements() {
 /// cells' round trips put them on different placements; only when neither holds is it clean.
 #[test]
 fn a_change_is_marked_for_placement_by_either_side_or_by_their_round_trips() {
-    use oceanbench::slow_trials::TrialRecord;
-    let trial = |fps: f64, placement: &str, round_trip: f64| -> TrialRecord {
-        serde_json::from_value(serde_json::json!({
-            "fps": fps,
-            "breakdown": {"workload_ms": 0.0, "wait_ms": 1.0, "wait_cpu_ms": 1.0, "copy_ms": 0.01,
-                          "step_ms": 1.0, "other_ms": 0.0},
-            "step_ratio": 1.0, "workload_ratio": null, "round_trip_ns": [round_trip, round_trip],
-            "taken_away": false, "placement": placement
-        }))
-        .unwrap()
-    };
     // Five trials alternating between `placements`, every one with the round trip given.
     let run = |placements: [&str; 2], round_trip: f64| -> Results {
         let mut r = one_cell(&fixture(), &[1.0]);
