@@ -16,6 +16,9 @@
 #       # only the module's survivors in that folder, against today's tests: a survivor a new
 #       # test kills is then counted caught, with the commit of the test (<module>-retest/);
 #       # a FILE:REGEX module is retested under the same argument
+#   NAME=compare-rest scripts/mutants.sh 'src/report/analysis/compare.rs:in (partners|mismatches)$'
+#       # the module's folder under a short name instead of one spelt from the file and regex
+#       # (one module only; a retest then needs the same NAME)
 #
 # The covering tests are found by the module paths they name; tests that drive the binary name
 # none, so scripts/mutants-tests.txt lists them per module.
@@ -35,6 +38,13 @@ if ! cargo mutants --version >/dev/null 2>&1; then
   echo "scripts/mutants.sh: cargo-mutants is missing: install it with 'cargo install cargo-mutants --locked'" >&2
   exit 2
 fi
+if [ -n "${NAME:-}" ] && [ $# -ne 1 ]; then
+  echo "scripts/mutants.sh: NAME names one module's folder, and $# modules were given" >&2
+  exit 2
+fi
+case "${NAME:-}" in
+  *[!A-Za-z0-9_-]*) echo "scripts/mutants.sh: NAME=${NAME} may hold only letters, digits, '-' and '_'" >&2; exit 2 ;;
+esac
 for m in "$@"; do
   case "$m" in
     src/*.rs:?*) [ -f "${m%%:*}" ] || { echo "scripts/mutants.sh: ${m%%:*} is no source file ($usage)" >&2; exit 2; } ;;
@@ -106,6 +116,7 @@ for m in "$@"; do
     re=(--re "${m#*:}")
     name="$name-$(echo "${m#*:}" | tr -c 'A-Za-z0-9' '-' | sed 's/--*/-/g; s/^-//; s/-$//')"
   fi
+  name="${NAME:-$name}"
   if [ -n "${RETEST:-}" ]; then
     survivors="$(cat "$out/$name/missed.txt" "$out/$name/timeout.txt" 2>/dev/null || true)"
     if [ -z "$survivors" ]; then
