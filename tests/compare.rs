@@ -5,7 +5,10 @@ mod common;
 
 use common::{five_trials, fixture, oceanbench};
 use oceanbench::cell::Dim;
-use oceanbench::report::compare::{self, CompareError, Comparison, Metric, Verdict};
+use oceanbench::crosscore::PLACEMENT_CHANGE_RATIO;
+use oceanbench::report::compare::{
+    self, CompareError, Comparison, Metric, Verdict, LEVEL_MISMATCH,
+};
 use oceanbench::results::latency::LatencyRun;
 use oceanbench::results::{Cell, Results};
 use std::path::Path;
@@ -94,6 +97,33 @@ fn halved_cell_is_regressed_and_named() {
     assert!(!back.regressed());
     assert_eq!(back.count(Verdict::Improved), 1);
     assert!((back.changes[0].change_pct - 100.0).abs() < 1e-9);
+}
+
+/// Regressions come first, worst first; then improvements, largest first.
+#[test]
+fn changes_sort_worst_regression_first_then_largest_improvement() {
+    let base = five_trials();
+    let mut new = base.clone();
+    for (cell, factor) in [(1, 1.2), (2, 0.8), (3, 1.5), (4, 0.5)] {
+        let s = new.cells[cell].summary.as_mut().unwrap();
+        s.fps *= factor;
+        s.fps_trials.iter_mut().for_each(|f| *f *= factor);
+    }
+    let c = compare::between(&base, &new, 5.0, Metric::Fps);
+    let first: Vec<(Verdict, String)> = c.changes[..4]
+        .iter()
+        .map(|c| (c.verdict, c.label.clone()))
+        .collect();
+    let label = |cell: usize| base.cells[cell].key.label();
+    assert_eq!(
+        first,
+        [
+            (Verdict::Regressed, label(4)),
+            (Verdict::Regressed, label(2)),
+            (Verdict::Improved, label(3)),
+            (Verdict::Improved, label(1)),
+        ]
+    );
 }
 
 #[test]
@@ -434,6 +464,21 @@ fn runs_that_are_not_like_for_like_are_named() {
         t.median_ns *= 1.5;
     }
     assert!(compare::mismatches(&base, &near).is_empty());
+    // Round trips exactly the ratio apart are not over it; a little more is.
+    let apart = |ratio: f64| {
+        let mut r = base.clone();
+        let trips = r
+            .round_trip
+            .before
+            .iter_mut()
+            .chain(&mut r.round_trip.during);
+        for t in trips.chain(&mut r.round_trip.after) {
+            t.median_ns *= ratio;
+        }
+        compare::mismatches(&base, &r)
+    };
+    assert!(apart(PLACEMENT_CHANGE_RATIO).is_empty());
+    assert_eq!(apart(PLACEMENT_CHANGE_RATIO * 1.01).len(), 1);
 }
 
 fn write(dir: &Path, name: &str, r: &Results) -> std::path::PathBuf {
@@ -580,6 +625,13 @@ fn zero_fps_fails_and_old_files_use_the_headline() {
     let ch = &c.changes[0];
     assert!((ch.change_pct + 20.0).abs() < 1e-9, "{ch:?}");
     assert_eq!((ch.new_trials, ch.verdict), (1, Verdict::TooFewTrials));
+
+    // An old file's headline of 0 FPS is no measurement either.
+    let s = old.cells[0].summary.as_mut().unwrap();
+    s.fps = 0.0;
+    let c = compare::between(&base, &old, 5.0, Metric::Fps);
+    assert!(c.changes.is_empty() && c.failed.len() == 1, "{c:?}");
+    assert!(c.failed[0].contains("no FPS measured"), "{:?}", c.failed);
 }
 
 /// The same failure on both sides is listed once.
@@ -645,6 +697,10 @@ fn pairs_whose_levels_came_to_other_microseconds_are_marked() {
     let within = compare::between(&b, &drifted, 5.0, Metric::Fps);
     assert!(!marked(&within));
     assert!(!within.to_markdown().contains('¶'));
+    // 100 us of 1000 is the bound itself (0.1 × 1000 rounds to 100 exactly), not over it.
+    assert_eq!(LEVEL_MISMATCH, 0.1);
+    let bound = compare::between(&b, &with_level(&base, 900.0), 5.0, Metric::Fps);
+    assert!(!marked(&bound));
 
     let c = compare::between(&b, &other, 5.0, Metric::Fps);
     assert!(marked(&c));
@@ -858,4 +914,22 @@ fn a_change_is_marked_for_placement_by_either_side_or_by_their_round_trips() {
     assert!(marked(&near, &mixed), "the new run mixed placements");
     let slow = run(["near", "near"], 400.0);
     assert!(marked(&near, &slow), "round trips five times apart");
+    let twice = run(["near", "near"], 80.0 * PLACEMENT_CHANGE_RATIO);
+    assert!(
+        !marked(&near, &twice),
+        "round trips the ratio apart, not over it"
+    );
+    assert!(
+        !marked(&near, &run(["near", "near"], 120.0)),
+        "1.5 times apart"
+    );
+    // A trial that measured no round trip (0 ns) leaves the median to those that did.
+    let mut unmeasured = run(["near", "near"], 80.0);
+    for t in unmeasured.cells[0].trials.iter_mut().take(3) {
+        t.round_trip_ns = Some([0.0, 0.0]);
+    }
+    assert!(
+        !marked(&near, &unmeasured),
+        "unmeasured round trips are no placement"
+    );
 }
