@@ -109,9 +109,9 @@ unsafe fn lanes<const POW2: bool>(
             _mm512_permutex2var_ps(low, odd, high),
         )
     };
-    let full = out.len() / LANES * LANES;
-    for i in (0..full).step_by(LANES) {
-        // SAFETY: i + 16 ≤ out.len(), the length of x, y and z too.
+    // A vector's cells and fractions, and the rows and planes scaled to indices.
+    let cells = |i: usize| {
+        // SAFETY: i + 16 ≤ out.len(), the length of x, y and z too (the loops below).
         let (px, py, pz) = unsafe {
             (
                 _mm512_loadu_ps(x.as_ptr().add(i)),
@@ -123,12 +123,23 @@ unsafe fn lanes<const POW2: bool>(
         let v = _mm512_mul_ps(py, scale_v);
         let w = _mm512_mul_ps(_mm512_add_ps(_mm512_mul_ps(pz, inv_v), half), scale_v);
         let ((x0, x1, fx), (y0, y1, fy), (z0, z1, fz)) = (split(u), split(v), split(w));
-        let (y0, y1) = (_mm512_mullo_epi32(y0, n_i), _mm512_mullo_epi32(y1, n_i));
-        let (z0, z1) = (
+        let ys = (_mm512_mullo_epi32(y0, n_i), _mm512_mullo_epi32(y1, n_i));
+        let zs = (
             _mm512_mullo_epi32(z0, plane_i),
             _mm512_mullo_epi32(z1, plane_i),
         );
         let wraps = _mm512_cmpeq_epi32_mask(x0, last) != 0;
+        (x0, x1, (fx, fy, fz), ys, zs, wraps)
+    };
+    type Cells = (
+        __m512i,
+        __m512i,
+        (__m512, __m512, __m512),
+        (__m512i, __m512i),
+        (__m512i, __m512i),
+        bool,
+    );
+    let value = |(x0, x1, (fx, fy, fz), (y0, y1), (z0, z1), wraps): Cells| {
         let plane = |zi: __m512i| {
             let (r0, r1) = (_mm512_add_epi32(zi, y0), _mm512_add_epi32(zi, y1));
             let (a, b, c, d) = if wraps {
@@ -139,7 +150,23 @@ unsafe fn lanes<const POW2: bool>(
             };
             lerp(lerp(a, b, fx), lerp(c, d, fx), fy)
         };
-        let s = lerp(plane(z0), plane(z1), fz);
+        lerp(plane(z0), plane(z1), fz)
+    };
+    // Two vectors at a time, both vectors' cells first: one vector's chain from coordinates
+    // to gathered values is longer than the out-of-order window overlaps with the next's.
+    let full = out.len() / LANES * LANES;
+    let twos = full / (2 * LANES) * (2 * LANES);
+    for i in (0..twos).step_by(2 * LANES) {
+        let (c0, c1) = (cells(i), cells(i + LANES));
+        let (s0, s1) = (value(c0), value(c1));
+        // SAFETY: as the loads.
+        unsafe {
+            _mm512_storeu_ps(out.as_mut_ptr().add(i), s0);
+            _mm512_storeu_ps(out.as_mut_ptr().add(i + LANES), s1);
+        }
+    }
+    for i in (twos..full).step_by(LANES) {
+        let s = value(cells(i));
         // SAFETY: as the loads.
         unsafe { _mm512_storeu_ps(out.as_mut_ptr().add(i), s) };
     }
