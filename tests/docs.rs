@@ -248,3 +248,46 @@ fn compare_blocks_state_the_verdict_counts_of_two_runs() {
     let missing = context.render(&file, &block(&format!("run={run}/base1 new={run}/none")));
     assert!(missing.is_err_and(|e| e.contains("does not exist")));
 }
+
+/// A `bench` block gives one estimate, its time per element (`per=element`) or the ratio of
+/// two, and refuses what does not fit.
+#[test]
+fn bench_blocks_give_an_estimate_its_time_per_element_or_a_ratio() {
+    use oceanbench::publish::blocks::{self, Block};
+    use oceanbench::publish::Context;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut context = Context::new(root);
+    let file = root.join("docs/fog.md");
+    let run = "run=bench-fog-coefficients-20261128T211049Z/head-1";
+    let id = "id=fog-coefficients/fill/256";
+    let block = |attrs: &str| -> Block {
+        let text = format!("<!-- ob:bench {attrs} -->x<!-- /ob -->");
+        blocks::parse(&text).unwrap().remove(0)
+    };
+    let render = |context: &mut Context, attrs: &str| context.render(&file, &block(attrs));
+    let whole = render(&mut context, &format!("{run} {id}")).unwrap();
+    let each = render(&mut context, &format!("{run} {id} per=element")).unwrap();
+    // 65,536 vertices an iteration: the whole in µs, each vertex in ns.
+    let value = |text: &str, unit: &str| -> f64 {
+        text.strip_suffix(unit).unwrap().trim().parse().unwrap()
+    };
+    let (whole, each) = (value(&whole, "µs"), value(&each, "ns"));
+    assert!(
+        (whole * 1e3 / 65_536.0 - each).abs() < 0.01,
+        "{whole} µs, {each} ns"
+    );
+    for (attrs, why) in [
+        (
+            format!("{run} {id} per=vertex"),
+            "allowed value is `element`",
+        ),
+        (
+            format!("{run} {id} per=element over=fog-coefficients/fill/512"),
+            "do not go together",
+        ),
+        (format!("{run} per=element"), "per= needs id="),
+    ] {
+        let err = render(&mut context, &attrs).unwrap_err();
+        assert!(err.contains(why), "{attrs}: {err}");
+    }
+}

@@ -59,9 +59,9 @@ fn rate(e: &BenchEstimate) -> String {
     }
 }
 
-/// Renders a `bench` block: `run=bench-...` with `id=ID` (one estimate), `id=ID over=ID` (their
-/// ratio), or `ids=PREFIX,...` (a table of the estimates whose ids start with a prefix; all
-/// when absent).
+/// Renders a `bench` block: `run=bench-...` with `id=ID` (one estimate), `id=ID per=element`
+/// (its time per element of its throughput), `id=ID over=ID` (their ratio), or
+/// `ids=PREFIX,...` (a table of the estimates whose ids start with a prefix; all when absent).
 pub fn render(root: &Path, block: &Block, link: &str) -> Result<String, BlockError> {
     let name = super::run_name(block)?;
     let path = root.join("results").join(name);
@@ -91,8 +91,22 @@ pub fn render(root: &Path, block: &Block, link: &str) -> Result<String, BlockErr
     };
     if let Some(id) = block.attr("id") {
         let e = find(id)?;
-        let text = match block.attr("over") {
-            Some(other) => {
+        let text = match (block.attr("over"), block.attr("per")) {
+            (Some(_), Some(_)) => return Err("per= and over= do not go together".into()),
+            (None, Some("element")) => match e.throughput {
+                Some(Throughput::Elements(n)) if e.unit == "ns" && n > 0 => {
+                    time(e.value / n as f64)
+                }
+                _ => {
+                    return Err(format!(
+                        "per=element: `{id}` is no time with a throughput in elements"
+                    ))
+                }
+            },
+            (None, Some(other)) => {
+                return Err(format!("per={other}: the allowed value is `element`"))
+            }
+            (Some(other), None) => {
                 let o = find(other)?;
                 if o.unit != e.unit {
                     return Err(format!(
@@ -102,12 +116,14 @@ pub fn render(root: &Path, block: &Block, link: &str) -> Result<String, BlockErr
                 }
                 format!("{:.2}", e.value / o.value)
             }
-            None => number(e, e.value),
+            (None, None) => number(e, e.value),
         };
         return Ok(qualified(text, &[unknown]));
     }
-    if block.attr("over").is_some() {
-        return Err("over= needs id=".into());
+    for needs_id in ["over", "per"] {
+        if block.attr(needs_id).is_some() {
+            return Err(format!("{needs_id}= needs id="));
+        }
     }
     let prefixes: Vec<&str> = block
         .attr("ids")

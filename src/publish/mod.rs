@@ -108,7 +108,7 @@ impl Context {
             "const" => &["name"],
             "config" => &["file", "key"],
             "ref" => &["name"],
-            "bench" => &["run", "id", "over", "ids"],
+            "bench" => &["run", "id", "over", "per", "ids"],
             "latency" => &["run", "method", "cores", "stat", "over", "unit", "digits"],
             "compare" => &["run", "new", "placement", "threshold"],
             other => {
