@@ -146,6 +146,8 @@ for m in "$@"; do
   rm -f "$out/$name/outcomes.json"
   # A folder gathers modules run at different times (OUT= the same folder): each keeps its commit.
   printf '%s%s\n' "$commit" "$([ "$dirty" = true ] && echo ' dirty')" >"$out/$name/commit"
+  # What was run, for a folder whose NAME does not spell it.
+  printf '%s\n' "$m" >"$out/$name/module"
 done
 
 python3 - "$out" <<'EOF' || status=$?
@@ -171,6 +173,7 @@ unexplained = 0
 for name in modules:
     d = out / name
     commit, _, dirty = (d / "commit").read_text().strip().partition(" ")
+    argument = (d / "module").read_text().strip() if (d / "module").exists() else None
     caught, missed = lines(d / "caught.txt"), lines(d / "missed.txt")
     timeout, unviable = lines(d / "timeout.txt"), lines(d / "unviable.txt")
     # A survivor the retest caught was killed by a test written after the module's run.
@@ -192,7 +195,7 @@ for name in modules:
     on_retest = sum(1 for s in survivors if "caught_on_retest" in s)
     viable = len(caught) + len(missed) + len(timeout)
     summary["modules"].append({
-        "module": name, "commit": commit, "dirty": dirty == "dirty", "caught": len(caught), "missed": len(missed), "timeout": len(timeout),
+        "module": name, "argument": argument, "commit": commit, "dirty": dirty == "dirty", "caught": len(caught), "missed": len(missed), "timeout": len(timeout),
         "unviable": len(unviable), "caught_on_retest": on_retest, "retest_commit": retest_commit,
         "caught_percent": round(100 * (len(caught) + on_retest) / viable, 1) if viable else None,
         "survivors": survivors,
@@ -206,6 +209,10 @@ for m in summary["modules"]:
     tree = m["commit"][:12] + (" (dirty tree)" if m["dirty"] else "")
     retest = f"{m['caught_on_retest']} (at {m['retest_commit'][:12]})" if m["retest_commit"] else "–"
     md.append(f"| {m['module']} | {tree} | {m['caught']} | {m['missed']} | {m['timeout']} | {m['unviable']} | {retest} | {pct} |")
+named = [m for m in summary["modules"] if m["argument"] and m["argument"].partition(":")[2]]
+if named:
+    md += ["", "Modules run on part of a file (`FILE:REGEX`):", ""]
+    md += [f"- {m['module']}: `{m['argument']}`" for m in named]
 md += ["", "Survivors:", ""]
 for m in summary["modules"]:
     for s in m["survivors"]:
