@@ -251,7 +251,7 @@ fn handoffs_rank_the_methods_by_their_geometric_mean_share_of_each_rows_fastest(
 }
 
 #[test]
-fn a_run_of_one_handoff_has_no_handoff_ranking() {
+fn a_run_of_one_handoff_has_no_handoff_ranking_and_one_of_two_has() {
     let mut r = handoff_run(dp_share);
     r.cells
         .retain(|c| c.key.mode == Mode::Serial || method(c) == "atomic");
@@ -262,4 +262,20 @@ fn a_run_of_one_handoff_has_no_handoff_ranking() {
         f.findings
     );
     assert!(!f.slice_dims.contains(&"sync".to_string()));
+
+    // Two are enough to rank.
+    let mut r = handoff_run(dp_share);
+    r.cells
+        .retain(|c| c.key.mode == Mode::Serial || ["atomic", "spin"].contains(&method(c).as_str()));
+    let f = findings::of(&r);
+    let dp = f
+        .findings
+        .iter()
+        .filter(|x| x.id == "handoffs")
+        .nth(1)
+        .unwrap();
+    assert_eq!(
+        dp.sentence,
+        "In DP, over the 8 rows where all 2 hand-offs ran, the fastest is atomic (1.00 × each row's fastest, geometric mean) and the slowest spin (0.90 ×; 0.90 × at worst, in 16×16 workload 0 (threading pool))."
+    );
 }
