@@ -194,12 +194,17 @@ fn dp_share(c: &Cell) -> f64 {
     }
 }
 
+/// The run's hand-off rankings: UP's, then DP's.
+fn handoffs(r: &Results) -> Vec<Finding> {
+    let f = findings::of(r).findings;
+    f.into_iter().filter(|x| x.id == "handoffs").collect()
+}
+
 #[test]
 fn handoffs_rank_the_methods_by_their_geometric_mean_share_of_each_rows_fastest() {
-    let f = findings::of(&handoff_run(dp_share));
-    let h: Vec<&Finding> = f.findings.iter().filter(|x| x.id == "handoffs").collect();
+    let h = handoffs(&handoff_run(dp_share));
     assert_eq!(h.len(), 2, "one for UP, one for DP: {h:?}");
-    let (up, dp) = (h[0], h[1]);
+    let (up, dp) = (&h[0], &h[1]);
     assert!(dp.slice.values.is_empty(), "run-wide");
     // Eight rows (2 sizes × 2 levels × 2 threadings), six methods; condvar's geometric mean is
     // (0.5^7 · 0.25)^(1/8) = 0.5^(9/8).
@@ -235,13 +240,7 @@ fn handoffs_rank_the_methods_by_their_geometric_mean_share_of_each_rows_fastest(
         .position(|c| c.key.mode == Mode::Dp && c.key.size == 16 && method(c) == "mutex")
         .unwrap();
     r.cells[gone].summary = None;
-    let f = findings::of(&r);
-    let dp = f
-        .findings
-        .iter()
-        .filter(|x| x.id == "handoffs")
-        .nth(1)
-        .unwrap();
+    let dp = &handoffs(&r)[1];
     assert!(
         dp.sentence
             .starts_with("In DP, over the 7 rows where all 6"),
@@ -255,25 +254,14 @@ fn a_run_of_one_handoff_has_no_handoff_ranking_and_one_of_two_has() {
     let mut r = handoff_run(dp_share);
     r.cells
         .retain(|c| c.key.mode == Mode::Serial || method(c) == "atomic");
-    let f = findings::of(&r);
-    assert!(
-        f.findings.iter().all(|x| x.id != "handoffs"),
-        "{:?}",
-        f.findings
-    );
-    assert!(!f.slice_dims.contains(&"sync".to_string()));
+    assert!(handoffs(&r).is_empty());
+    assert!(!findings::of(&r).slice_dims.contains(&"sync".to_string()));
 
     // Two are enough to rank.
     let mut r = handoff_run(dp_share);
     r.cells
         .retain(|c| c.key.mode == Mode::Serial || ["atomic", "spin"].contains(&method(c).as_str()));
-    let f = findings::of(&r);
-    let dp = f
-        .findings
-        .iter()
-        .filter(|x| x.id == "handoffs")
-        .nth(1)
-        .unwrap();
+    let dp = &handoffs(&r)[1];
     assert_eq!(
         dp.sentence,
         "In DP, over the 8 rows where all 2 hand-offs ran, the fastest is atomic (1.00 × each row's fastest, geometric mean) and the slowest spin (0.90 ×; 0.90 × at worst, in 16×16 workload 0 (threading pool))."
