@@ -7,7 +7,7 @@ mod common;
 
 use common::{assert_one_line_exit_2, oceanbench};
 use oceanbench::affinity;
-use oceanbench::balance::{self, BalanceSettings, Testbed};
+use oceanbench::balance::{self, BalanceSettings, Probe, Testbed};
 use oceanbench::cell::{Axes, CellKey};
 use oceanbench::frame_loop::{LoopError, Mode};
 use oceanbench::measure::{FrameRecord, Trial};
@@ -346,5 +346,77 @@ fn a_range_without_a_balance_point_says_which_side_and_suggests_one() {
     assert!(
         last.contains("of the range (") && last.contains("try a range"),
         "{stderr}"
+    );
+}
+
+/// A probe at `workload_us` whose trials' waits differ by `signs` (main's wait less the
+/// helper's, µs): positive below the balance, negative above it.
+fn probe(workload_us: f64, signs: [f64; 2]) -> Probe {
+    Probe {
+        workload_us,
+        fps: vec![100.0; 2],
+        serial_fps: vec![80.0; 2],
+        up_fps: Vec::new(),
+        main_wait_us: signs.iter().map(|s| 100.0 + s).collect(),
+        helper_wait_us: vec![100.0; 2],
+        frame_ms: 0.2,
+        step_us: Vec::new(),
+        round_trip_ns: Vec::new(),
+        placement: None,
+    }
+}
+
+fn bracket_of(probes: &[Probe]) -> Option<(f64, f64)> {
+    balance::bracket_of(&probes.iter().collect::<Vec<_>>())
+}
+
+#[test]
+fn measured_probes_bracket_the_balance_narrowed_by_a_noisy_probe_inside_it() {
+    let waits = probe(50.0, [50.0, 50.0]);
+    let idles = probe(150.0, [-50.0, -50.0]);
+    assert_eq!(
+        bracket_of(&[idles.clone(), waits.clone()]),
+        Some((50.0, 150.0))
+    );
+    // Every probe on one side brackets nothing.
+    assert_eq!(
+        bracket_of(&[waits.clone(), probe(80.0, [20.0, 20.0])]),
+        None
+    );
+    assert_eq!(
+        bracket_of(&[idles.clone(), probe(120.0, [-20.0, -20.0])]),
+        None
+    );
+    // Noise crossed them: the main thread waited at 120 µs but not at 80.
+    assert_eq!(
+        bracket_of(&[
+            waits.clone(),
+            probe(80.0, [-20.0, -20.0]),
+            probe(120.0, [20.0, 20.0])
+        ]),
+        Some((80.0, 120.0))
+    );
+
+    // Within noise at 95 µs: waits differ by 4 µs on average, give or take 12 (two standard
+    // errors of 10 and -2), so the balance lies within 99 ± 12 µs.
+    let inside = probe(95.0, [10.0, -2.0]);
+    assert_eq!(
+        bracket_of(&[waits.clone(), idles.clone(), inside.clone()]),
+        Some((87.0, 111.0))
+    );
+    // Probes within noise at or outside the bracket's ends leave it alone, though their
+    // windows (± 16 µs) reach into it.
+    let noisy = |w: f64| probe(w, [8.0, -8.0]);
+    assert_eq!(
+        bracket_of(&[
+            noisy(45.0),
+            noisy(50.0),
+            waits,
+            inside,
+            idles,
+            noisy(150.0),
+            noisy(155.0)
+        ]),
+        Some((87.0, 111.0))
     );
 }
