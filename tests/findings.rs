@@ -692,6 +692,16 @@ fn a_runs_slices_are_its_varying_values_in_the_order_its_threaded_cells_show_the
     let only = findings::slices(&one);
     assert_eq!(only, [findings::Slice::default()]);
     assert_eq!(only[0].label(), "every cell");
+
+    // A run of serial cells alone has their slice, and its findings.
+    let mut serial = fixture();
+    serial.cells.retain(|c| c.key.mode == Mode::Serial);
+    assert_eq!(findings::slices(&serial), [findings::Slice::default()]);
+    let f = findings::of(&serial);
+    assert_eq!(
+        f.findings.iter().map(|x| x.id.as_str()).collect::<Vec<_>>(),
+        ["marks"]
+    );
 }
 
 #[test]
