@@ -423,10 +423,15 @@ fn a_number_carries_its_cells_marks_and_spread_and_the_slice_counts_them() {
         threshold_percent: 5.0,
         retries: 0,
     });
-    // UP's lowest row over serial: trials spread exactly the bound, which is not over it.
+    // UP's lowest row over serial, and another UP cell: trials spread exactly the bound, which
+    // is not over it.
     set_trials(
         cell(&mut r, 16, 2, Mode::Up),
         &[585.0, 600.0, 600.0, 600.0, 615.0],
+    );
+    set_trials(
+        cell(&mut r, 40, 2, Mode::Up),
+        &[390.0, 400.0, 400.0, 400.0, 410.0],
     );
     let f = findings::of(&r);
 
