@@ -502,23 +502,10 @@ fn a_slice_of_recorded_steady_cells_has_none_marked_and_unmeasured_cells_are_not
 /// A search's entry for `key` that found `balance_us` against a 400 µs step, in no placement.
 fn entry(key: CellKey, balance_us: Option<f64>) -> BalanceEntry {
     BalanceEntry {
-        key,
-        step_us: 400.0,
         balance_us,
         balance_us_low: balance_us.map(|b| b - 20.0),
         balance_us_high: balance_us.map(|b| b + 20.0),
-        dp_over_serial: None,
-        dp_over_serial_low: None,
-        dp_over_serial_high: None,
-        dp_over_up: None,
-        overhead_percent: None,
-        round_trip_ns: Vec::new(),
-        placement: None,
-        set_aside: 0,
-        placements: Vec::new(),
-        note: None,
-        probes: Vec::new(),
-        unit_cost: None,
+        ..BalanceEntry::new(key, 400.0)
     }
 }
 

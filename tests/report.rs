@@ -425,23 +425,15 @@ fn a_balance_point_gets_its_section() {
         .key
         .clone();
     r.balance.push(BalanceEntry {
-        key,
-        step_us: 400.0,
         balance_us: Some(500.0),
         balance_us_low: Some(480.0),
         balance_us_high: Some(520.0),
         dp_over_serial: Some(1.8),
         dp_over_serial_low: Some(1.7),
         dp_over_serial_high: Some(1.9),
-        dp_over_up: None,
         overhead_percent: Some(3.0),
         round_trip_ns: vec![100.0, 110.0],
-        placement: None,
-        set_aside: 0,
-        placements: Vec::new(),
-        note: None,
-        probes: Vec::new(),
-        unit_cost: None,
+        ..BalanceEntry::new(key, 400.0)
     });
     let doc = page(&r);
     let balance = tables(&doc, "Balance points");

@@ -76,23 +76,8 @@ pub fn search(
         probes.push(prober.probe(ratio * step_us)?);
     }
     let mut entry = BalanceEntry {
-        key: key.clone(),
-        step_us,
-        balance_us: None,
-        balance_us_low: None,
-        balance_us_high: None,
-        dp_over_serial: None,
-        dp_over_serial_low: None,
-        dp_over_serial_high: None,
-        dp_over_up: None,
-        overhead_percent: None,
-        round_trip_ns: Vec::new(),
-        placement: None,
-        set_aside: 0,
-        placements: Vec::new(),
-        note: None,
-        probes: Vec::new(),
         unit_cost: prober.unit_cost.clone(),
+        ..BalanceEntry::new(key.clone(), step_us)
     };
     let seed = stats::seed_from(&key.label());
     if key.mode == Mode::Up {

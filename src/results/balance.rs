@@ -210,6 +210,29 @@ impl UnitCost {
 }
 
 impl BalanceEntry {
+    /// The entry of a search of `key` against a step of `step_us` that has found nothing yet.
+    pub fn new(key: CellKey, step_us: f64) -> BalanceEntry {
+        BalanceEntry {
+            key,
+            step_us,
+            balance_us: None,
+            balance_us_low: None,
+            balance_us_high: None,
+            dp_over_serial: None,
+            dp_over_serial_low: None,
+            dp_over_serial_high: None,
+            dp_over_up: None,
+            overhead_percent: None,
+            round_trip_ns: Vec::new(),
+            placement: None,
+            set_aside: 0,
+            placements: Vec::new(),
+            note: None,
+            probes: Vec::new(),
+            unit_cost: None,
+        }
+    }
+
     /// The balance point as a fraction of the step: the step its own placement's probes
     /// timed, or (files before schema 6) the step measured before the search.
     pub fn fraction(&self) -> Option<f64> {
