@@ -69,11 +69,8 @@ pub fn search(
     let before = testbed.round_trip(SEARCH_ROUND_TRIP_BATCHES);
     let step_us = prober.step_us()?;
     let mut probes: Vec<Probe> = Vec::new();
-    let [from, to] = settings.range;
-    let n = settings.points;
-    for i in 0..n {
-        let ratio = from * (to / from).powf(i as f64 / (n - 1) as f64);
-        probes.push(prober.probe(ratio * step_us)?);
+    for workload_us in curve(settings, step_us) {
+        probes.push(prober.probe(workload_us)?);
     }
     let mut entry = BalanceEntry {
         unit_cost: prober.unit_cost.clone(),
@@ -106,6 +103,16 @@ pub fn search(
         .collect();
     by_placement(&mut entry, seed);
     Ok(entry)
+}
+
+/// The curve's workloads (µs): `settings.points` of them from `range[0]` to `range[1]` times
+/// the step, evenly spaced on a log scale, so each decade of the range gets as many.
+fn curve(settings: &BalanceSettings, step_us: f64) -> Vec<f64> {
+    let [from, to] = settings.range;
+    let n = settings.points;
+    (0..n)
+        .map(|i| from * (to / from).powf(i as f64 / (n - 1) as f64) * step_us)
+        .collect()
 }
 
 /// Places every probe against the search's own round trips and gives the figures of each
@@ -175,7 +182,7 @@ pub fn by_placement(entry: &mut BalanceEntry, seed: u64) {
         return;
     }
     let head = entry.placements[0].clone();
-    let others: Vec<String> = [Class::Near, Class::Far, Class::Moved]
+    let mut others: Vec<String> = [Class::Near, Class::Far, Class::Moved]
         .into_iter()
         .filter(|&c| c != primary)
         .filter_map(|c| {
@@ -188,13 +195,11 @@ pub fn by_placement(entry: &mut BalanceEntry, seed: u64) {
         .iter()
         .filter(|p| p.placement.is_none())
         .count();
-    let unplaced = if unplaced > 0 {
-        format!(", {unplaced} unplaced")
-    } else {
-        String::new()
-    };
+    if unplaced > 0 {
+        others.push(format!("{unplaced} unplaced"));
+    }
     let mixed = format!(
-        "probes mixed placements: {} of {} set aside ({}{unplaced}); the figures are the {primary} probes' alone",
+        "probes mixed placements: {} of {} set aside ({}); the figures are the {primary} probes' alone",
         entry.set_aside,
         entry.probes.len(),
         others.join(", ")
@@ -296,11 +301,10 @@ pub fn bracket_of(probes: &[&Probe]) -> Option<(f64, f64)> {
     for p in sorted.iter().filter(|p| p.below().is_none()) {
         let w = p.workload_us;
         if w > lo && w < hi {
+            // The window holds W (a probe within noise has |mean| ≤ noise), so it meets the
+            // bracket; with no noise at all it is W alone, as in the bisection.
             let (centre, noise) = (w + stats::mean(&p.signs()), p.noise_us());
-            let (new_lo, new_hi) = ((centre - noise).max(lo), (centre + noise).min(hi));
-            if new_lo < new_hi {
-                (lo, hi) = (new_lo, new_hi);
-            }
+            (lo, hi) = ((centre - noise).max(lo), (centre + noise).min(hi));
         }
     }
     Some((lo, hi))
@@ -361,7 +365,9 @@ fn bracket(
                 let p = probes.last().expect("just pushed");
                 let (centre, noise) = (w + stats::mean(&p.signs()), p.noise_us());
                 let (new_lo, new_hi) = ((centre - noise).max(lo), (centre + noise).min(hi));
-                if new_hi - new_lo >= hi - lo || noise > tolerance / 2.0 {
+                // A window wider than the tolerance cannot be bisected further: every probe
+                // inside it would read as noise too. A narrower one ends the loop.
+                if noise > tolerance / 2.0 {
                     return Ok((
                         new_lo,
                         new_hi,
@@ -524,6 +530,21 @@ mod tests {
             step_us: vec![],
             round_trip_ns: vec![],
             placement: None,
+        }
+    }
+
+    #[test]
+    fn the_curve_spans_the_range_evenly_on_a_log_scale() {
+        let settings = BalanceSettings {
+            points: 5,
+            range: [0.1, 1000.0],
+            ..BalanceSettings::default()
+        };
+        let curve = curve(&settings, 20.0);
+        let expected = [2.0, 20.0, 200.0, 2000.0, 20000.0];
+        assert_eq!(curve.len(), expected.len());
+        for (w, e) in curve.iter().zip(expected) {
+            assert!((w / e - 1.0).abs() < 1e-12, "{curve:?}");
         }
     }
 
