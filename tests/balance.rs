@@ -494,12 +494,18 @@ fn a_probe_in_no_placement_is_set_aside_and_counted() {
 #[test]
 fn a_placement_takes_the_step_at_its_balance_or_else_its_probes_median() {
     // The helper's step grows by 1 µs per 100 µs of main-thread work, so the balance, where
-    // W = S(W), is 101.01 µs, and the step is read at the probe there.
+    // W = S(W), is 101.01 µs, and the step is read at the probe there, not at the median
+    // probe: of a curve of twelve points from 50 µs to 10 ms, ten lie above the balance.
     let model = Model {
         step_per_work: 0.01,
         ..Model::new(|_| false)
     };
-    let entry = balance::search(&model, &dp_cell(), &settings()).unwrap();
+    let wide = BalanceSettings {
+        points: 12,
+        range: [0.5, 100.0],
+        ..settings()
+    };
+    let entry = balance::search(&model, &dp_cell(), &wide).unwrap();
     let (lo, hi) = bracket(&entry);
     assert!(lo <= 101.01 && 101.01 <= hi, "[{lo}, {hi}]");
     let b = entry.balance_us.unwrap();

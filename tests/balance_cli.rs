@@ -10,6 +10,16 @@ use common::{assert_one_line_exit_2, oceanbench};
 use oceanbench::affinity;
 use oceanbench::report::compare::{self, Metric};
 use oceanbench::results::Results;
+use std::path::Path;
+use std::process::Output;
+
+/// `oceanbench balance` of the 16² cell in `mode`, into `out`, with `args`.
+fn balance_16(mode: &str, out: &Path, args: &[&str]) -> Output {
+    let mut all = vec!["balance", "--size", "16", "--mode", mode];
+    all.extend(args);
+    all.extend(["--out", out.to_str().unwrap()]);
+    oceanbench(&all)
+}
 
 #[test]
 fn a_tiny_search_writes_its_files_whatever_else_runs() {
@@ -20,21 +30,11 @@ fn a_tiny_search_writes_its_files_whatever_else_runs() {
     let out = dir.path().join("b");
     let two = affinity::allowed_cores().len() > 1;
     let mode = if two { "dp,up" } else { "up" };
-    let run = oceanbench(&[
-        "balance",
-        "--size",
-        "16",
-        "--mode",
+    let run = balance_16(
         mode,
-        "--points",
-        "4",
-        "--trials",
-        "2",
-        "--tolerance",
-        "10",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+        &out,
+        &["--points", "4", "--trials", "2", "--tolerance", "10"],
+    );
     let stderr = String::from_utf8_lossy(&run.stderr);
     if run.status.code() == Some(2) {
         let last = stderr.trim_end().lines().last().unwrap_or_default();
@@ -120,21 +120,11 @@ fn a_range_without_a_balance_point_is_one_line_and_exit_2() {
         "up"
     };
     let out = dir.path().join("r");
-    let run = oceanbench(&[
-        "balance",
-        "--size",
-        "16",
-        "--mode",
+    let run = balance_16(
         mode,
-        "--points",
-        "2",
-        "--trials",
-        "1",
-        "--range",
-        "0.02,0.3",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+        &out,
+        &["--points", "2", "--trials", "1", "--range", "0.02,0.3"],
+    );
     let stderr = String::from_utf8_lossy(&run.stderr);
     if run.status.success() {
         return;
