@@ -1227,3 +1227,40 @@ fn completions_and_man_pages_cover_every_command() {
         &["--out", "/nonexistent/man1"],
     );
 }
+
+/// A sweep examines the machine (the doctor) on the cores it runs on, each once, and keeps the
+/// report in results.json; `--no-doctor` leaves it out.
+#[test]
+fn the_doctor_examines_the_sweeps_cores_unless_told_not_to() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("tiny.json");
+    std::fs::write(
+        &config,
+        r#"{"sizes": [8], "modes": ["serial"], "workloads": [0], "trials": 1,
+            "warmup_frames": 0, "min_frames": 3, "min_seconds": 0, "calibrate": "once"}"#,
+    )
+    .unwrap();
+    for (flags, examined) in [(&[][..], true), (&["--no-doctor"][..], false)] {
+        let out = dir.path().join(format!("out{}", flags.len()));
+        let mut args = vec![
+            "sweep".to_string(),
+            config.to_string_lossy().into_owned(),
+            "--out".into(),
+            out.to_string_lossy().into_owned(),
+            "--no-charts".into(),
+            "--quiet".into(),
+        ];
+        args.extend(flags.iter().map(|f| f.to_string()));
+        assert_success(&oceanbench(&args));
+        let results = Results::load(&out.join("results.json")).unwrap();
+        let Some(doctor) = &results.doctor else {
+            assert!(!examined, "{flags:?}: no doctor's report");
+            continue;
+        };
+        assert!(examined, "{flags:?}: a doctor's report");
+        let [main, helper] = results.config.placement().unwrap();
+        let mut cores = vec![main, helper];
+        cores.dedup();
+        assert_eq!(doctor.cores, cores);
+    }
+}
