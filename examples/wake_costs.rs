@@ -46,6 +46,22 @@ struct Round {
     notify_cpu: f64,
 }
 
+impl Round {
+    const FIGURES: usize = 6;
+
+    /// Each figure with its id, in the order the run lists them.
+    fn figures(&self) -> [(&'static str, f64); Round::FIGURES] {
+        [
+            ("timed/sleeper cpu", self.timed_cpu),
+            ("timed/late", self.timed_late),
+            ("woken/sleeper cpu", self.woken_cpu),
+            ("woken, timeout armed/sleeper cpu", self.armed_cpu),
+            ("woken/waker notify wall", self.notify_wall),
+            ("woken/waker notify cpu", self.notify_cpu),
+        ]
+    }
+}
+
 fn cpu_us() -> f64 {
     thread_cpu_ns().expect("this OS has no thread CPU clock") as f64 / 1e3
 }
@@ -161,21 +177,12 @@ fn main() {
     let rs: Vec<Round> = (0..rounds)
         .map(|k| round(cores, wait, &pair, k as u64 * 2 * SLEEPS))
         .collect();
-    let fields: [(&str, fn(&Round) -> f64); 6] = [
-        ("timed/sleeper cpu", |r| r.timed_cpu),
-        ("timed/late", |r| r.timed_late),
-        ("woken/sleeper cpu", |r| r.woken_cpu),
-        ("woken, timeout armed/sleeper cpu", |r| r.armed_cpu),
-        ("woken/waker notify wall", |r| r.notify_wall),
-        ("woken/waker notify cpu", |r| r.notify_cpu),
-    ];
-    let estimates: Vec<BenchEstimate> = fields
-        .iter()
-        .map(|(id, f)| {
-            let mut v: Vec<f64> = rs.iter().map(f).collect();
+    let estimates: Vec<BenchEstimate> = (0..Round::FIGURES)
+        .map(|k| {
+            let mut v: Vec<f64> = rs.iter().map(|r| r.figures()[k].1).collect();
             let value = median(&mut v);
             BenchEstimate {
-                id: format!("{id}/{wait_us}"),
+                id: format!("{}/{wait_us}", rs[0].figures()[k].0),
                 unit: "us".into(),
                 value,
                 lower: v[0],
