@@ -81,7 +81,7 @@ fn the_mesh_is_built_from_the_fields() {
     let spectrum = Spectrum::new(&params, 32);
     let dx = params.patch_metres / 32.0;
     let mut max_fold_err = 0.0f64;
-    for (e, (&x, &z)) in mesh.x.iter().zip(&mesh.z).enumerate() {
+    for (e, (&x, &z)) in mesh.x.iter().zip(mesh.z.iter()).enumerate() {
         let (i, j) = (e / 32, e % 32);
         let f = fields(&state, e);
         assert_eq!(z as f64, f[0]);
@@ -259,8 +259,8 @@ fn sizes_40_and_1536_run() {
         assert!(mesh
             .z
             .iter()
-            .chain(&mesh.x)
-            .chain(&mesh.fold)
+            .chain(mesh.x.iter())
+            .chain(mesh.fold.iter())
             .all(|v| v.is_finite()));
         let mean_square = mean_square(&mesh.z);
         let power = Spectrum::new(&params, n).power(2.0);

@@ -375,7 +375,8 @@ mod tests {
     #[test]
     fn the_surface_is_bilinear_in_the_rest_cell_and_absent_outside() {
         let mut mesh = Mesh::new(Grid::new(3, 1.0).unwrap());
-        mesh.z = vec![0.0, 1.0, 2.0, 2.0, 3.0, 4.0, 4.0, 5.0, 6.0];
+        mesh.z
+            .copy_from_slice(&[0.0, 1.0, 2.0, 2.0, 3.0, 4.0, 4.0, 5.0, 6.0]);
         let s = Surface::of(&mesh, 2.0);
         assert_eq!(s.height(0.0, 0.0), Some(0.0));
         assert_eq!(s.height(1.0, 0.0), Some(0.5));
@@ -414,7 +415,7 @@ mod tests {
         let mut mesh = Mesh::new(Grid::new(n, 1.0).unwrap());
         let mut rng = SplitMix64(11);
         let mut unit = move || (rng.next_u64() >> 40) as f32 / (1u64 << 24) as f32;
-        for z in &mut mesh.z {
+        for z in mesh.z.iter_mut() {
             *z = unit() - 0.5;
         }
         let surface = Surface::of(&mesh, 1.25);
