@@ -18,7 +18,7 @@
 
 use super::simd::{dispatch, ForIsa, Isa};
 use super::vector::Vector;
-use crate::ocean::mesh::Mesh;
+use crate::ocean::mesh::{field, Field, Mesh};
 
 /// The `neighbors` normal method for the fast kernel: same sums as `FaceNormals`, computed as a
 /// stencil in one pass per vertex row.
@@ -28,15 +28,15 @@ pub struct StencilNormals {
     n: usize,
     /// For each vertex of the current row, x and y of its first three face terms (cell row
     /// above); 0 for the first row.
-    above: [Vec<f32>; 2],
+    above: [Field; 2],
     /// The same for the next row, written while the current row is summed.
-    below: [Vec<f32>; 2],
+    below: [Field; 2],
     /// −(x[c + 1] − x[c]) of each cell column c; 0 from the missing cell n − 1 on.
-    ndx: Vec<f32>,
+    ndx: Field,
     /// Each vertex's summed z terms for the row spacings in `zsum_for`.
-    zsum: Vec<f32>,
+    zsum: Field,
     /// Their squares, for the normalisation.
-    zsum2: Vec<f32>,
+    zsum2: Field,
     /// Bits of the spacings (above, below) `zsum` was summed for.
     zsum_for: Option<(u32, u32)>,
 }
@@ -53,11 +53,11 @@ impl StencilNormals {
         StencilNormals {
             isa,
             n: 0,
-            above: Default::default(),
-            below: Default::default(),
-            ndx: Vec::new(),
-            zsum: Vec::new(),
-            zsum2: Vec::new(),
+            above: [field(0, 0.0), field(0, 0.0)],
+            below: [field(0, 0.0), field(0, 0.0)],
+            ndx: field(0, 0.0),
+            zsum: field(0, 0.0),
+            zsum2: field(0, 0.0),
             zsum_for: None,
         }
     }
@@ -69,16 +69,22 @@ impl StencilNormals {
         let len = n.next_multiple_of(16);
         if self.n != n {
             self.n = n;
+            // Scratch rows on cache lines as the mesh's are: the stencil streams them beside it.
             for v in self.above.iter_mut().chain(&mut self.below) {
-                *v = vec![0.0; len];
+                *v = field(len, 0.0);
             }
-            self.zsum = vec![0.0; len];
-            self.zsum2 = vec![0.0; len];
+            self.zsum = field(len, 0.0);
+            self.zsum2 = field(len, 0.0);
+            self.ndx = field(len, 0.0);
         }
-        self.ndx.clear();
-        self.ndx
-            .extend(mesh.x[..n].windows(2).map(|w| -(w[1] - w[0])));
-        self.ndx.resize(len, 0.0);
+        let widths = mesh.x[..n].windows(2).map(|w| -(w[1] - w[0]));
+        for (d, w) in self
+            .ndx
+            .iter_mut()
+            .zip(widths.chain(std::iter::repeat(0.0)))
+        {
+            *d = w;
+        }
         self.zsum_for = None;
         dispatch(self.isa, Compute { s: self, mesh });
     }
@@ -93,7 +99,7 @@ impl StencilNormals {
         self.zsum_for = Some(key);
         let left = std::iter::once(0.0).chain(self.ndx.iter().map(|d| -d));
         let right = self.ndx.iter().map(|d| -d);
-        let sums = self.zsum.iter_mut().zip(&mut self.zsum2);
+        let sums = self.zsum.iter_mut().zip(self.zsum2.iter_mut());
         for ((z, z2), (l, r)) in sums.zip(left.zip(right)) {
             let (pl, pr, cl, cr) = (l * above, r * above, l * below, r * below);
             *z = pl + pr + pr + cl + cl + cr;
