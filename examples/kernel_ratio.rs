@@ -239,10 +239,9 @@ fn bench_run(
 fn main() {
     let started = oceanbench::sweep::utc_now();
     let mut args: Vec<String> = std::env::args().skip(1).collect();
-    let out = args.iter().position(|a| a == "--out").map(|i| {
-        let dir = args.get(i + 1).expect("--out needs a folder").clone();
-        args.drain(i..=i + 1);
-        std::path::PathBuf::from(dir)
+    let out = oceanbench::bench_run::take_out_arg(&mut args).unwrap_or_else(|e| {
+        eprintln!("{e}");
+        std::process::exit(2)
     });
     let n: usize = args.first().map_or(256, |a| a.parse().unwrap());
     let rounds: usize = args.get(1).map_or(5, |a| a.parse().unwrap());

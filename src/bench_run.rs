@@ -105,6 +105,20 @@ pub enum BenchRunError {
     },
 }
 
+/// Takes `--out DIR` out of an example's arguments, for the folder its [`BenchRun`] goes to;
+/// `None` when it is not given. A `--out` with no folder after it is refused in one line.
+pub fn take_out_arg(args: &mut Vec<String>) -> Result<Option<PathBuf>, String> {
+    let Some(i) = args.iter().position(|a| a == "--out") else {
+        return Ok(None);
+    };
+    let dir = args
+        .get(i + 1)
+        .cloned()
+        .ok_or("--out: needs a folder after it")?;
+    args.drain(i..=i + 1);
+    Ok(Some(PathBuf::from(dir)))
+}
+
 impl BenchRun {
     /// Reads a run from its folder or its bench.json.
     pub fn load(path: &Path) -> Result<BenchRun, BenchRunError> {
@@ -287,4 +301,25 @@ fn criterion_estimate(new_dir: &Path) -> Result<(BenchEstimate, f64), BenchRunEr
         }),
     };
     Ok((estimate, median.confidence_interval.confidence_level))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn out_is_taken_from_anywhere_in_the_arguments_or_refused_without_a_folder() {
+        let args = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let mut a = args(&["256", "--out", "results/x", "7"]);
+        assert_eq!(take_out_arg(&mut a), Ok(Some(PathBuf::from("results/x"))));
+        assert_eq!(a, args(&["256", "7"]));
+        let mut b = args(&["256"]);
+        assert_eq!(take_out_arg(&mut b), Ok(None));
+        assert_eq!(b, args(&["256"]));
+        let mut c = args(&["256", "--out"]);
+        assert_eq!(
+            take_out_arg(&mut c),
+            Err("--out: needs a folder after it".to_string())
+        );
+    }
 }
