@@ -238,11 +238,7 @@ fn bench_run(
 
 fn main() {
     let started = oceanbench::sweep::utc_now();
-    let mut args: Vec<String> = std::env::args().skip(1).collect();
-    let out = oceanbench::bench_run::take_out_arg(&mut args).unwrap_or_else(|e| {
-        eprintln!("{e}");
-        std::process::exit(2)
-    });
+    let (args, out) = oceanbench::bench_run::example_args();
     let n: usize = args.first().map_or(256, |a| a.parse().unwrap());
     let rounds: usize = args.get(1).map_or(5, |a| a.parse().unwrap());
     let isa = match args.get(2).map(String::as_str) {

@@ -153,11 +153,7 @@ fn median(v: &mut [f64]) -> f64 {
 
 fn main() {
     let started = oceanbench::sweep::utc_now();
-    let mut args: Vec<String> = std::env::args().skip(1).collect();
-    let out = oceanbench::bench_run::take_out_arg(&mut args).unwrap_or_else(|e| {
-        eprintln!("{e}");
-        std::process::exit(2)
-    });
+    let (args, out) = oceanbench::bench_run::example_args();
     let wait_us: u64 = args.first().map_or(150, |a| a.parse().expect("wait_us"));
     let rounds: usize = args.get(1).map_or(5, |a| a.parse().expect("rounds"));
     let machine = Machine::current();

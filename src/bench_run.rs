@@ -119,6 +119,19 @@ pub fn take_out_arg(args: &mut Vec<String>) -> Result<Option<PathBuf>, String> {
     Ok(Some(PathBuf::from(dir)))
 }
 
+/// An example's arguments after its name, with `--out DIR` taken out ([`take_out_arg`]); a
+/// `--out` with no folder ends the process with its one-line reason and exit status 2.
+pub fn example_args() -> (Vec<String>, Option<PathBuf>) {
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    match take_out_arg(&mut args) {
+        Ok(out) => (args, out),
+        Err(e) => {
+            eprintln!("{e}");
+            std::process::exit(2)
+        }
+    }
+}
+
 impl BenchRun {
     /// Reads a run from its folder or its bench.json.
     pub fn load(path: &Path) -> Result<BenchRun, BenchRunError> {
