@@ -58,8 +58,9 @@ fn steps(c: &mut Criterion) {
         group.throughput(Throughput::Elements(grid.vertices() as u64));
         let mut mesh = Sines.mesh(grid);
         let view = camera.view_at(grid, 1.5);
+        let mut lines = Vec::with_capacity(n);
         group.bench_function(BenchmarkId::new("place", n), |b| {
-            b.iter(|| projected::place(black_box(&view), &mut mesh.rows_mut(0..n)))
+            b.iter(|| projected::place(black_box(&view), &mut mesh.rows_mut(0..n), &mut lines))
         });
     }
     group.finish();

@@ -4,6 +4,7 @@
 
 use super::mesh::{Grid, Mesh, MeshRows};
 use super::normals::NormalMethod;
+use super::row_line::RowLine;
 use crate::input::InputError;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
@@ -218,6 +219,13 @@ pub trait Stepper: Send + std::fmt::Debug {
     /// Fills one band of rows at time `t`, bit-identical to the same rows of [`Stepper::step`];
     /// only for the normal methods [`Model::splits_into_rows`] accepts.
     fn step_rows(&mut self, t: f32, rows: MeshRows<'_>);
+
+    /// [`Stepper::step_rows`] for a band the projected grid placed: `lines[r]`, when Some, is
+    /// the line row r's vertices lie evenly spaced on, which a kernel may use without checking
+    /// the row. By default the lines go unused.
+    fn step_rows_on_lines(&mut self, t: f32, rows: MeshRows<'_>, _lines: &[Option<RowLine>]) {
+        self.step_rows(t, rows);
+    }
 
     /// A copy of this state for another helper.
     fn boxed_clone(&self) -> Box<dyn Stepper>;

@@ -7,6 +7,7 @@ pub mod reference;
 use super::mesh::{Grid, Mesh, MeshRows};
 use super::model::{GridKind, Kernel, Model, OceanParams, Stepper};
 use super::normals::{self, FaceNormals, NormalMethod};
+use super::row_line::{RowLine, RowLines};
 use super::waves::WaveSet;
 use crate::input::InputError;
 
@@ -136,11 +137,22 @@ impl SinesState {
     }
 
     /// The kernel's part of a step: heights, and the normals too when they are analytic.
-    fn heights(&mut self, t: f32, rows: MeshRows<'_>) {
+    /// A band's step: heights and analytic normals only.
+    fn band(&mut self, t: f32, rows: MeshRows<'_>, lines: RowLines<'_>) {
+        assert_eq!(
+            self.normals,
+            NormalMethod::Analytic,
+            "step_rows needs analytic normals"
+        );
+        self.heights(t, rows, lines);
+    }
+
+    /// `lines`, the rows known to lie on a line, is for the fast kernel at points.
+    fn heights(&mut self, t: f32, rows: MeshRows<'_>, lines: RowLines<'_>) {
         let analytic = self.normals == NormalMethod::Analytic;
         match (self.kernel, &mut self.points) {
             (Kernel::Reference, _) => reference::step_rows(&self.waves, rows, t, analytic),
-            (Kernel::Fast, Some(points)) => points.step_rows(rows, t),
+            (Kernel::Fast, Some(points)) => points.step_rows(rows, t, lines),
             (Kernel::Fast, None) => {
                 let fast = self.fast.as_mut().expect("built for Kernel::Fast");
                 fast.step_rows(rows, t, analytic);
@@ -152,7 +164,7 @@ impl SinesState {
 impl Stepper for SinesState {
     fn step(&mut self, t: f32, mesh: &mut Mesh) {
         let n = mesh.grid.n;
-        self.heights(t, mesh.rows_mut(0..n));
+        self.heights(t, mesh.rows_mut(0..n), None);
         if let Some(faces) = &mut self.faces {
             faces.compute(mesh, self.normals);
         }
@@ -162,12 +174,11 @@ impl Stepper for SinesState {
     }
 
     fn step_rows(&mut self, t: f32, rows: MeshRows<'_>) {
-        assert_eq!(
-            self.normals,
-            NormalMethod::Analytic,
-            "step_rows needs analytic normals"
-        );
-        self.heights(t, rows);
+        self.band(t, rows, None);
+    }
+
+    fn step_rows_on_lines(&mut self, t: f32, rows: MeshRows<'_>, lines: &[Option<RowLine>]) {
+        self.band(t, rows, Some(lines));
     }
 
     fn boxed_clone(&self) -> Box<dyn Stepper> {

@@ -19,6 +19,7 @@ use super::phase::{Power, WaveConsts};
 use super::simd::{self, by_exp, full, AbsPow, IntExp, Isa};
 use super::vector::Vector;
 use crate::ocean::mesh::MeshRows;
+use crate::ocean::row_line::{RowLine, RowLines};
 use crate::ocean::waves::{WaveSet, MAX_WAVES};
 use std::f64::consts::PI;
 
@@ -53,12 +54,6 @@ const ROUNDER_F64: f64 = 6_755_399_441_055_744.0;
 /// Vertices per segment of a row on a line: the row's polynomial evaluations per wave are
 /// one per segment plus one per vertex of a segment, fewest near √n over the grids run here.
 const SEG: usize = 32;
-
-/// How far, relative to the row's largest coordinate (at least 1), a vertex may lie from its
-/// row's line for the row to be taken as one: 4 units in the last place of an f32. A phase
-/// from the line then differs from the vertex's own by about what the per-vertex path's f32
-/// sum a·x + b·y + c rounds away.
-const LINE_TOL: f64 = 1.0 / (1u64 << 21) as f64;
 
 /// sin and cos of π·r for r in [−½, ½].
 #[inline(always)]
@@ -99,47 +94,11 @@ fn half_angles<const F: bool>(
     }
 }
 
-/// A row of points evenly spaced on a line: vertex j at (x0 + j·dx, y0 + j·dy).
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Line {
-    x0: f64,
-    dx: f64,
-    y0: f64,
-    dy: f64,
-}
-
-impl Line {
-    /// The line through the row's first and last vertices, when every vertex lies within
-    /// `LINE_TOL` of its place on it (a NaN anywhere fails the check).
-    #[inline(always)]
-    fn of(x: &[f32], y: &[f32]) -> Option<Line> {
-        let last = x.len().checked_sub(1).filter(|&l| l > 0)?;
-        let (x0, y0) = (x[0] as f64, y[0] as f64);
-        let line = Line {
-            x0,
-            dx: (x[last] as f64 - x0) / last as f64,
-            y0,
-            dy: (y[last] as f64 - y0) / last as f64,
-        };
-        let bound = |a: f64, b: f64| LINE_TOL * a.abs().max(b.abs()).max(1.0);
-        let (tx, ty) = (bound(x0, x[last] as f64), bound(y0, y[last] as f64));
-        let mut on = true;
-        for (j, (&x, &y)) in x.iter().zip(y).enumerate() {
-            let j = j as i32 as f64;
-            let (ex, ey) = (x as f64 - (x0 + j * line.dx), y as f64 - (y0 + j * line.dy));
-            on &= (ex.abs() <= tx) & (ey.abs() <= ty);
-        }
-        on.then_some(line)
-    }
-}
-
-impl Line {
-    /// A wave's half angle along the line, in turns of π: q0 at the first vertex, dq more
-    /// at each next one, from the wave's `point_turns_f64`.
-    #[inline(always)]
-    fn phase(self, [a, b, c]: [f64; 3]) -> (f64, f64) {
-        (a * self.x0 + b * self.y0 + c, a * self.dx + b * self.dy)
-    }
+/// A wave's half angle along a row on `line`, in turns of π: q0 at the first vertex, dq more
+/// at each next one, from the wave's `point_turns_f64`.
+#[inline(always)]
+fn line_phase(line: RowLine, [a, b, c]: [f64; 3]) -> (f64, f64) {
+    (a * line.x0 + b * line.y0 + c, a * line.dx + b * line.dy)
 }
 
 /// One wave's half angles along a row on a line: sin and cos at each segment's first vertex
@@ -148,10 +107,10 @@ impl Line {
 #[inline(always)]
 fn line_angles<const F: bool>(
     turns: [f64; 3],
-    line: Line,
+    line: RowLine,
     [first_sin, first_cos, along_sin, along_cos]: [&mut [f32]; 4],
 ) {
-    let (q0, dq) = line.phase(turns);
+    let (q0, dq) = line_phase(line, turns);
     for (s, (fs, fc)) in first_sin.iter_mut().zip(first_cos.iter_mut()).enumerate() {
         let q = q0 + (s * SEG) as i32 as f64 * dq;
         (*fs, *fc) = sin_cos_pi::<F>(reduce(q));
@@ -228,7 +187,7 @@ fn fused_factor(sin: f32, cos: f32, power: u32) -> (f32, f32) {
 fn line_fused<const F: bool, V: Vector, const K: usize>(
     waves: &[WaveConsts],
     turns: &[[f64; 3]],
-    line: Line,
+    line: RowLine,
     [along, ts, scales]: [&mut Vec<f32>; 3],
     [z, nx, ny, nz]: [&mut [f32]; 4],
 ) {
@@ -249,7 +208,7 @@ fn line_fused<const F: bool, V: Vector, const K: usize>(
             Power::Int(e) => e,
             Power::General(_) => unreachable!("excluded by `fused::covers`"),
         };
-        let (q0, dq) = line.phase(turns);
+        let (q0, dq) = line_phase(line, turns);
         let (sin, cos) = along[w * 2 * tile..(w + 1) * 2 * tile].split_at_mut(tile);
         for (k, (s, c)) in sin.iter_mut().zip(cos.iter_mut()).enumerate() {
             (*s, *c) = sin_cos_pi::<F>(reduce(k as i32 as f64 * dq));
@@ -322,9 +281,10 @@ impl PointsKernel {
     }
 
     /// Fills heights and analytic normals of a band at the x, y it holds, at time `t`: the
-    /// reference kernel's surface within the fast kernel's tolerance. Each vertex depends on
-    /// its own x, y alone, so bands agree bit for bit with a whole-mesh step.
-    pub fn step_rows(&mut self, rows: MeshRows<'_>, t: f32) {
+    /// reference kernel's surface within the fast kernel's tolerance. `lines` says which rows
+    /// lie on a line (checked here, row by row, when it is None). Each vertex depends on its
+    /// own x, y alone, so bands agree bit for bit with a whole-mesh step.
+    pub fn step_rows(&mut self, rows: MeshRows<'_>, t: f32, lines: RowLines<'_>) {
         let n = rows.grid.n;
         self.sin.resize(n, 0.0);
         self.cos.resize(n, 0.0);
@@ -342,6 +302,7 @@ impl PointsKernel {
                 turns: &self.turns,
                 turns_f64: &self.turns_f64,
                 rows,
+                lines,
                 sin: &mut self.sin,
                 cos: &mut self.cos,
                 along: &mut self.along,
@@ -359,6 +320,7 @@ struct Points<'a, 'm> {
     turns: &'a [[f32; 3]],
     turns_f64: &'a [[f64; 3]],
     rows: MeshRows<'m>,
+    lines: RowLines<'a>,
     sin: &'a mut [f32],
     cos: &'a mut [f32],
     along: &'a mut Vec<f32>,
@@ -379,6 +341,7 @@ impl simd::ForIsa for Points<'_, '_> {
             turns,
             turns_f64,
             rows,
+            lines,
             sin,
             cos,
             along,
@@ -393,8 +356,15 @@ impl simd::ForIsa for Points<'_, '_> {
             ny: rows.ny,
             nz: rows.nz,
         };
-        for ((x, y), [z, nx, ny, nz]) in xs.zip(outs.rows(n)) {
-            let line = Line::of(x, y);
+        for (r, ((x, y), [z, nx, ny, nz])) in xs.zip(outs.rows(n)).enumerate() {
+            let line = match lines {
+                Some(lines) => lines[r],
+                None => RowLine::of(x, y),
+            };
+            debug_assert!(
+                line.is_none() || RowLine::of(x, y) == line,
+                "row {r} vouched for as a line is not one"
+            );
             if let (Some(line), true) = (line, fused) {
                 let scratch = [&mut *along, &mut *ts, &mut *scales];
                 line_fused::<F, V, K>(waves, turns_f64, line, scratch, [z, nx, ny, nz]);
@@ -446,37 +416,6 @@ mod tests {
     use crate::ocean::mesh::{Grid, Mesh};
 
     #[test]
-    fn an_evenly_spaced_row_is_a_line_and_a_bent_or_broken_one_is_not() {
-        let n = 100;
-        let x: Vec<f32> = (0..n).map(|j| 3.0 + 0.5 * j as f32).collect();
-        let y: Vec<f32> = (0..n).map(|j| -2.0 - 0.25 * j as f32).collect();
-        let line = Line::of(&x, &y).expect("an evenly spaced row");
-        assert_eq!(
-            (line.x0, line.dx, line.y0, line.dy),
-            (3.0, 0.5, -2.0, -0.25)
-        );
-        let moved = |k: usize, by: f32| {
-            let mut x = x.clone();
-            x[k] += by;
-            Line::of(&x, &y)
-        };
-        // One vertex off by far more than rounding, anywhere in the row.
-        assert_eq!(moved(37, 1e-3), None);
-        assert_eq!(moved(1, -1e-3), None);
-        // Off by less than the tolerance (a unit in the last place at 52.5).
-        assert!(moved(99, 52.5f32.next_up() - 52.5).is_some());
-        let mut nan = y.clone();
-        nan[50] = f32::NAN;
-        assert_eq!(Line::of(&x, &nan), None);
-        let (ax, ay): (Vec<f32>, Vec<f32>) = (0..n)
-            .map(|j| (j as f32 * 0.01).sin_cos())
-            .map(|(s, c)| (50.0 * s, 50.0 * c))
-            .unzip();
-        assert_eq!(Line::of(&ax, &ay), None, "an arc");
-        assert_eq!(Line::of(&x[..1], &y[..1]), None, "one vertex");
-    }
-
-    #[test]
     fn rows_on_lines_and_off_them_give_the_surface_at_their_points() {
         let waves = WaveSet::default();
         let n = 100;
@@ -498,12 +437,24 @@ mod tests {
                 }
             }
             let row = i * n..(i + 1) * n;
-            bent += Line::of(&mesh.x[row.clone()], &mesh.y[row]).is_none() as usize;
+            bent += RowLine::of(&mesh.x[row.clone()], &mesh.y[row]).is_none() as usize;
         }
         assert_eq!(bent, n / 5);
+        let lines: Vec<_> = (0..n)
+            .map(|i| RowLine::of(&mesh.x[i * n..][..n], &mesh.y[i * n..][..n]))
+            .collect();
         for isa in Isa::available() {
             for t in [0.0, 37.25] {
-                PointsKernel::with_isa(&waves, isa).step_rows(mesh.rows_mut(0..n), t);
+                // Told which rows are lines, the kernel takes them as it finds them itself.
+                let mut told = mesh.clone();
+                let rows = told.rows_mut(0..n);
+                PointsKernel::with_isa(&waves, isa).step_rows(rows, t, Some(&lines));
+                PointsKernel::with_isa(&waves, isa).step_rows(mesh.rows_mut(0..n), t, None);
+                assert_eq!(
+                    [&told.z, &told.nx, &told.ny, &told.nz],
+                    [&mesh.z, &mesh.nx, &mesh.ny, &mesh.nz],
+                    "{isa:?} t {t}"
+                );
                 for v in 0..n * n {
                     let (x, y, t) = (mesh.x[v] as f64, mesh.y[v] as f64, t as f64);
                     let z = waves.height_f64(x, y, t);
@@ -530,16 +481,22 @@ mod tests {
         let grid = Grid::new(n, 1.0).unwrap();
         let view = Camera::default().view_at(grid, 1.5);
         let mut mesh = Mesh::new(grid);
-        crate::projected::place(&view, &mut mesh.rows_mut(0..n));
+        let mut lines = Vec::new();
+        crate::projected::place(&view, &mut mesh.rows_mut(0..n), &mut lines);
+        assert_eq!(lines.len(), n);
         let (mut short, mut clamped) = (0, 0);
-        for i in 0..n {
+        for (i, &line) in lines.iter().enumerate() {
             let (x, y) = (&mesh.x[i * n..][..n], &mesh.y[i * n..][..n]);
+            // What the placement says of a row is what the check finds in it.
+            assert!(line.is_none() || line == RowLine::of(x, y), "row {i}");
             let reach = |j: usize| (x[j] - view.eye.x).hypot(y[j] - view.eye.y);
             if (0..n).all(|j| reach(j) < 0.999 * view.far) {
-                assert!(Line::of(x, y).is_some(), "row {i} is short of far");
+                assert!(RowLine::of(x, y).is_some(), "row {i} is short of far");
+                assert!(line.is_some(), "row {i} is placed as a line");
                 short += 1;
             } else if (0..n).all(|j| reach(j) > 0.999 * view.far) {
-                assert_eq!(Line::of(x, y), None, "row {i} lies on the far arc");
+                assert_eq!(RowLine::of(x, y), None, "row {i} lies on the far arc");
+                assert_eq!(line, None, "row {i} lies on the far arc");
                 clamped += 1;
             }
         }
