@@ -179,53 +179,149 @@ fn fused_factor(sin: f32, cos: f32, power: u32) -> (f32, f32) {
     (other / f, if cos_larger { p } else { -p })
 }
 
+/// Entries of a tile's table of advances that take a polynomial each: the tile's others come
+/// from them by angle addition, one rotation per further `SEEDS` entries.
+const SEEDS: usize = 16;
+
+/// The fused line loop's tables, rebuilt row by row in buffers kept from row to row.
+#[derive(Clone, Debug, Default)]
+struct LineTables {
+    /// Each wave's table of a tile's advances (sin, then cos, `tile` entries each), from
+    /// `start`, the first entry on a 64-byte boundary.
+    along: Vec<f32>,
+    start: usize,
+    /// The (tile, tiles) `steps` and `from_first` were built for.
+    shape: (usize, usize),
+    /// Per wave, the half angles the row takes a polynomial of are `from_first[e]·q0 +
+    /// steps[e]·dq`: the `SEEDS` advances (k·dq), the rotations (m·SEEDS·dq, m < tile / SEEDS),
+    /// then the tile firsts (q0 + s·tile·dq).
+    steps: Vec<f64>,
+    from_first: Vec<f64>,
+    /// Those half angles of every wave, wave after wave, reduced, in turns of π; `sin` and
+    /// `cos` hold their polynomials, in the same order.
+    turns: Vec<f32>,
+    sin: Vec<f32>,
+    cos: Vec<f32>,
+    /// Per wave and tile (`[w·tiles + s]`): the factor's t and its scale.
+    ts: Vec<f32>,
+    scales: Vec<f32>,
+}
+
+impl LineTables {
+    /// Builds every wave's tables for a row on `line` in tiles of `tile` vertices, `tiles` of
+    /// them. The phases run as one f64 vector loop per wave and the polynomials as one vector
+    /// loop over every wave's; only `SEEDS` advances per wave take a polynomial, the rest of
+    /// the table rotates them (two f32 roundings more than a polynomial of their own).
+    #[inline(always)]
+    fn fill<const F: bool, V: Vector>(
+        &mut self,
+        turns: &[[f64; 3]],
+        exps: &[u32],
+        line: RowLine,
+        tile: usize,
+        tiles: usize,
+    ) {
+        let (waves, rots) = (turns.len(), tile / SEEDS);
+        let per = SEEDS + rots + tiles;
+        if self.shape != (tile, tiles) {
+            self.shape = (tile, tiles);
+            let steps = (0..SEEDS).chain((0..rots).map(|m| m * SEEDS));
+            self.steps = steps
+                .chain((0..tiles).map(|s| s * tile))
+                .map(|k| k as f64)
+                .collect();
+            self.from_first = (0..per).map(|e| (e >= SEEDS + rots) as u8 as f64).collect();
+        }
+        self.turns.resize(waves * per, 0.0);
+        for (&turns_w, out) in turns.iter().zip(self.turns.chunks_exact_mut(per)) {
+            let (q0, dq) = line_phase(line, turns_w);
+            let entries = self.steps.iter().zip(&self.from_first);
+            for (r, (&k, &a)) in out.iter_mut().zip(entries) {
+                *r = reduce(a * q0 + k * dq);
+            }
+        }
+        self.sin.resize(waves * per, 0.0);
+        self.cos.resize(waves * per, 0.0);
+        let outs = self.sin.iter_mut().zip(self.cos.iter_mut());
+        for (&r, (s, c)) in self.turns.iter().zip(outs) {
+            (*s, *c) = sin_cos_pi::<F>(r);
+        }
+        // Tables start on a 64-byte boundary, as the regular grid's (`phase::Aligned`): whole
+        // vector loads that straddle no cache line.
+        self.along.resize(waves * 2 * tile + 15, 0.0);
+        self.start = self.along.as_ptr().align_offset(64).min(15);
+        let along = &mut self.along[self.start..][..waves * 2 * tile];
+        self.ts.resize(waves * tiles, 0.0);
+        self.scales.resize(waves * tiles, 0.0);
+        let angles = self.sin.chunks_exact(per).zip(self.cos.chunks_exact(per));
+        let factors = self
+            .ts
+            .chunks_exact_mut(tiles)
+            .zip(self.scales.chunks_exact_mut(tiles));
+        let each = along.chunks_exact_mut(2 * tile).zip(angles).zip(factors);
+        for (((table, (sin_w, cos_w)), (ts, scales)), &e) in each.zip(exps) {
+            let (seed_s, seed_c) = (&sin_w[..SEEDS], &cos_w[..SEEDS]);
+            let by = sin_w[SEEDS..SEEDS + rots]
+                .iter()
+                .zip(&cos_w[SEEDS..SEEDS + rots]);
+            let (sin, cos) = table.split_at_mut(tile);
+            // Rotation 0 is by sin 0 = 0 and cos 0 = 1, both exact: the seeds unchanged.
+            let chunks = sin.chunks_exact_mut(SEEDS).zip(cos.chunks_exact_mut(SEEDS));
+            for ((sin, cos), (&sm, &cm)) in chunks.zip(by) {
+                let (sm, cm) = (V::splat(sm), V::splat(cm));
+                for l in (0..SEEDS).step_by(V::LANES) {
+                    let (s0, c0) = (V::load(&seed_s[l..]), V::load(&seed_c[l..]));
+                    s0.mul_add(cm, c0 * sm).store(&mut sin[l..]);
+                    c0.mul_add(cm, -(s0 * sm)).store(&mut cos[l..]);
+                }
+            }
+            let firsts = sin_w[SEEDS + rots..].iter().zip(&cos_w[SEEDS + rots..]);
+            for ((t, scale), (&s, &c)) in ts.iter_mut().zip(scales.iter_mut()).zip(firsts) {
+                (*t, *scale) = fused_factor(s, c, e + 2);
+            }
+        }
+    }
+}
+
 /// A row on a line, every wave at once (the fused loop of the regular grid): its tiles of
 /// `K` vectors take the roles of the regular grid's rows, the advance along a tile those of
-/// its columns. Per wave, one table of a tile's advances and one factor per tile; then each
-/// tile's heights and slopes stay in registers while every wave adds to them.
+/// its columns. Per wave, one table of a tile's advances and one factor per tile
+/// (`LineTables`); then each tile's heights and slopes stay in registers while every wave adds
+/// to them.
 #[inline(always)]
 fn line_fused<const F: bool, V: Vector, const K: usize>(
     waves: &[WaveConsts],
     turns: &[[f64; 3]],
     line: RowLine,
-    [along, ts, scales]: [&mut Vec<f32>; 3],
+    tables: &mut LineTables,
     [z, nx, ny, nz]: [&mut [f32]; 4],
 ) {
     let (n, tile) = (z.len(), K * V::LANES);
     let tiles = n.div_ceil(tile);
     assert!(waves.len() <= MAX_WAVES);
-    // Tables start on a 64-byte boundary, as the regular grid's (`phase::Aligned`): whole
-    // vector loads that straddle no cache line.
-    along.resize(waves.len() * 2 * tile + 15, 0.0);
-    let start = along.as_ptr().align_offset(64).min(15);
-    let along = &mut along[start..start + waves.len() * 2 * tile];
-    // Per wave and tile: the factor's t and its scale.
-    ts.resize(waves.len() * tiles, 0.0);
-    scales.resize(waves.len() * tiles, 0.0);
+    assert_eq!(tile % SEEDS, 0, "a tile is whole rotations of the seeds");
     let mut exps = [0u32; MAX_WAVES];
-    for (w, (wave, &turns)) in waves.iter().zip(turns).enumerate() {
-        exps[w] = match wave.power {
+    for (e, wave) in exps.iter_mut().zip(waves) {
+        *e = match wave.power {
             Power::Int(e) => e,
             Power::General(_) => unreachable!("excluded by `fused::covers`"),
         };
-        let (q0, dq) = line_phase(line, turns);
-        let (sin, cos) = along[w * 2 * tile..(w + 1) * 2 * tile].split_at_mut(tile);
-        for (k, (s, c)) in sin.iter_mut().zip(cos.iter_mut()).enumerate() {
-            (*s, *c) = sin_cos_pi::<F>(reduce(k as i32 as f64 * dq));
-        }
-        let at = w * tiles..(w + 1) * tiles;
-        let firsts = ts[at.clone()].iter_mut().zip(&mut scales[at]);
-        for (s, (t, scale)) in firsts.enumerate() {
-            let (sb, cb) = sin_cos_pi::<F>(reduce(q0 + (s * tile) as i32 as f64 * dq));
-            (*t, *scale) = fused_factor(sb, cb, exps[w] + 2);
-        }
     }
+    tables.fill::<F, V>(turns, &exps[..waves.len()], line, tile, tiles);
+    let along = &tables.along[tables.start..][..waves.len() * 2 * tile];
+    let (ts, scales) = (&tables.ts, &tables.scales);
     for s in 0..tiles {
         let mut acc = [[[V::splat(0.0); 3]; K]; 1];
         for (w, wave) in waves.iter().enumerate() {
             let (t, scale) = (ts[w * tiles + s], scales[w * tiles + s]);
-            let (sa, ca) = along[w * 2 * tile..(w + 1) * 2 * tile].split_at(tile);
-            let cols = if scale < 0.0 { (sa, ca) } else { (ca, sa) };
+            // Which of sin and cos plays which role changes from tile to tile without a
+            // pattern, so it is picked by arithmetic on the offset, not by a branch.
+            let table = &along[w * 2 * tile..(w + 1) * 2 * tile];
+            let first = (scale >= 0.0) as usize * tile;
+            let cols = (
+                &table[first..first + tile],
+                &table[tile - first..2 * tile - first],
+            );
             let k = [wave.amp * scale.abs(), wave.cx * scale, wave.cy * scale].map(V::splat);
             let t = (V::splat(t), V::splat(-t));
             by_exp!(exps[w], add_tile::<V, K, 1, true>(&mut acc, cols, t, k));
@@ -251,8 +347,7 @@ pub struct PointsKernel {
     sin: Vec<f32>,
     cos: Vec<f32>,
     along: Vec<f32>,
-    ts: Vec<f32>,
-    scales: Vec<f32>,
+    line_tables: LineTables,
 }
 
 impl PointsKernel {
@@ -275,8 +370,7 @@ impl PointsKernel {
             sin: Vec::new(),
             cos: Vec::new(),
             along: vec![0.0; 2 * SEG],
-            ts: Vec::new(),
-            scales: Vec::new(),
+            line_tables: LineTables::default(),
         }
     }
 
@@ -306,8 +400,7 @@ impl PointsKernel {
                 sin: &mut self.sin,
                 cos: &mut self.cos,
                 along: &mut self.along,
-                ts: &mut self.ts,
-                scales: &mut self.scales,
+                line_tables: &mut self.line_tables,
             },
         );
     }
@@ -324,8 +417,7 @@ struct Points<'a, 'm> {
     sin: &'a mut [f32],
     cos: &'a mut [f32],
     along: &'a mut Vec<f32>,
-    ts: &'a mut Vec<f32>,
-    scales: &'a mut Vec<f32>,
+    line_tables: &'a mut LineTables,
 }
 
 impl simd::ForIsa for Points<'_, '_> {
@@ -345,8 +437,7 @@ impl simd::ForIsa for Points<'_, '_> {
             sin,
             cos,
             along,
-            ts,
-            scales,
+            line_tables,
         } = self;
         let n = rows.grid.n;
         let xs = rows.x.chunks_exact(n).zip(rows.y.chunks_exact(n));
@@ -366,8 +457,7 @@ impl simd::ForIsa for Points<'_, '_> {
                 "row {r} vouched for as a line is not one"
             );
             if let (Some(line), true) = (line, fused) {
-                let scratch = [&mut *along, &mut *ts, &mut *scales];
-                line_fused::<F, V, K>(waves, turns_f64, line, scratch, [z, nx, ny, nz]);
+                line_fused::<F, V, K>(waves, turns_f64, line, line_tables, [z, nx, ny, nz]);
                 continue;
             }
             z.fill(0.0);
