@@ -1,6 +1,7 @@
 //! The ocean surface: the grid mesh every model fills, the [`Model`] seam, and the models behind
 //! it, one folder each (`sines/`: the paper's sum of sines; `fft/`: Tessendorf's FFT ocean), and
-//! the registry that names them (`kind.rs`).
+//! the registry that names them (`kind.rs`). `row_line.rs` is the one thing the projected grid's
+//! placement tells a model about the mesh it placed: which rows lie evenly spaced on a line.
 
 pub mod fft;
 mod kind;
