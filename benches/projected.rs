@@ -2,7 +2,8 @@
 //! each kernel, measured in one run (issue 28's target: projected ≤ 1.5 × regular). The regular
 //! grid runs with `analytic` normals, the projected grid's only method, so the ratio is the
 //! cost of placing the vertices and of evaluating the waves at scattered points; the regular
-//! grid with the paper's `neighbors` normals is listed too. `place` is the ray–plane work alone.
+//! grid with the paper's `neighbors` normals is listed too. `place` is the ray–plane work alone,
+//! `evaluate-placed` the fast kernel at the points it placed: the projected step's two parts.
 //! The camera is the default one (pitch 30°, fov 60°, height framing the patch), whose image's
 //! top edge lies on the horizon, so the far clamp is exercised too.
 //!
@@ -61,6 +62,14 @@ fn steps(c: &mut Criterion) {
         let mut lines = Vec::with_capacity(n);
         group.bench_function(BenchmarkId::new("place", n), |b| {
             b.iter(|| projected::place(black_box(&view), &mut mesh.rows_mut(0..n), &mut lines))
+        });
+        // The other part of the projected step: the fast kernel at the points just placed,
+        // told which rows lie on a line.
+        let mut surface = Sines
+            .prepare_at_points(grid, &params, Kernel::Fast)
+            .unwrap();
+        group.bench_function(BenchmarkId::new("evaluate-placed", n), |b| {
+            b.iter(|| surface.step_rows_on_lines(black_box(1.5), mesh.rows_mut(0..n), &lines))
         });
     }
     group.finish();

@@ -12,7 +12,7 @@
 const LINE_TOL: f64 = 1.0 / (1u64 << 21) as f64;
 
 /// A row of points evenly spaced on a line: vertex j at (x0 + j·dx, y0 + j·dy), in f64.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RowLine {
     /// x of the row's first vertex.
     pub x0: f64,

@@ -183,87 +183,119 @@ fn fused_factor(sin: f32, cos: f32, power: u32) -> (f32, f32) {
 /// from them by angle addition, one rotation per further `SEEDS` entries.
 const SEEDS: usize = 16;
 
-/// The fused line loop's tables, rebuilt row by row in buffers kept from row to row.
+/// Rows on a line whose phases, polynomials and factors are built together, in loops long
+/// enough to pay for their set-up; a block's values (18 KB at 4 waves and 256 columns) stay in L1.
+const BLOCK: usize = 16;
+
+/// The fused line loop's tables: a block of rows' polynomials and factors, and one row's table
+/// of a tile's advances, in buffers kept from block to block.
 #[derive(Clone, Debug, Default)]
 struct LineTables {
-    /// Each wave's table of a tile's advances (sin, then cos, `tile` entries each), from
-    /// `start`, the first entry on a 64-byte boundary.
+    /// Each wave's table of a tile's advances for the row being stepped (sin, then cos, `tile`
+    /// entries each), from `start`, the first entry on a 64-byte boundary.
     along: Vec<f32>,
     start: usize,
-    /// The (tile, tiles) `steps` and `from_first` were built for.
-    shape: (usize, usize),
-    /// Per wave, the half angles the row takes a polynomial of are `from_first[e]·q0 +
-    /// steps[e]·dq`: the `SEEDS` advances (k·dq), the rotations (m·SEEDS·dq, m < tile / SEEDS),
-    /// then the tile firsts (q0 + s·tile·dq).
-    steps: Vec<f64>,
-    from_first: Vec<f64>,
-    /// Those half angles of every wave, wave after wave, reduced, in turns of π; `sin` and
-    /// `cos` hold their polynomials, in the same order.
+    /// The (waves, tile, tiles) the fixed parts below were built for.
+    shape: (usize, usize, usize),
+    /// The advances a row takes a polynomial of, in steps of dq: the `SEEDS` advances (k·dq),
+    /// then the rotations (m·SEEDS·dq, m < tile / SEEDS).
+    advances: Vec<f64>,
+    /// The tile firsts, in steps of dq from q0 (s·tile).
+    firsts: Vec<f64>,
+    /// The power of each (row, wave, tile)'s factor: its wave's exponent + 2. The kernel's
+    /// waves never change, so this is built with the shape.
+    powers: Vec<u32>,
+    /// The block's half angles, reduced, in turns of π: every (row, wave)'s advances, then every
+    /// (row, wave)'s tile firsts, so each part runs as one vector loop. `sin` and `cos` hold
+    /// their polynomials, in the same order.
     turns: Vec<f32>,
     sin: Vec<f32>,
     cos: Vec<f32>,
-    /// Per wave and tile (`[w·tiles + s]`): the factor's t and its scale.
+    /// Per row, wave and tile (`[(row·waves + w)·tiles + s]`): the factor's t and its scale.
     ts: Vec<f32>,
     scales: Vec<f32>,
 }
 
 impl LineTables {
-    /// Builds every wave's tables for a row on `line` in tiles of `tile` vertices, `tiles` of
-    /// them. The phases run as one f64 vector loop per wave and the polynomials as one vector
-    /// loop over every wave's; only `SEEDS` advances per wave take a polynomial, the rest of
-    /// the table rotates them (two f32 roundings more than a polynomial of their own).
+    /// Builds the polynomials and factors of a block of rows on `lines` (at most `BLOCK`) in
+    /// tiles of `tile` vertices, `tiles` of them: the phases in f64, one (row, wave) at a time;
+    /// the polynomials and the firsts' factors each as one vector loop over the block.
     #[inline(always)]
-    fn fill<const F: bool, V: Vector>(
+    fn fill<const F: bool>(
         &mut self,
         turns: &[[f64; 3]],
         exps: &[u32],
-        line: RowLine,
+        lines: &[RowLine],
         tile: usize,
         tiles: usize,
     ) {
-        let (waves, rots) = (turns.len(), tile / SEEDS);
-        let per = SEEDS + rots + tiles;
-        if self.shape != (tile, tiles) {
-            self.shape = (tile, tiles);
-            let steps = (0..SEEDS).chain((0..rots).map(|m| m * SEEDS));
-            self.steps = steps
-                .chain((0..tiles).map(|s| s * tile))
-                .map(|k| k as f64)
-                .collect();
-            self.from_first = (0..per).map(|e| (e >= SEEDS + rots) as u8 as f64).collect();
+        let (waves, per) = (turns.len(), SEEDS + tile / SEEDS);
+        assert_eq!(tile % SEEDS, 0, "a tile is whole rotations of the seeds");
+        assert!(lines.len() <= BLOCK);
+        if self.shape != (waves, tile, tiles) {
+            self.shape = (waves, tile, tiles);
+            let steps = (0..SEEDS).chain((0..tile / SEEDS).map(|m| m * SEEDS));
+            self.advances = steps.map(|k| k as f64).collect();
+            self.firsts = (0..tiles).map(|s| (s * tile) as f64).collect();
+            let row = exps.iter().flat_map(|&e| std::iter::repeat_n(e + 2, tiles));
+            self.powers = row.cycle().take(BLOCK * waves * tiles).collect();
+            let all = BLOCK * waves * (per + tiles);
+            (self.turns, self.sin, self.cos) = (vec![0.0; all], vec![0.0; all], vec![0.0; all]);
+            self.ts = vec![0.0; BLOCK * waves * tiles];
+            self.scales = vec![0.0; BLOCK * waves * tiles];
         }
-        self.turns.resize(waves * per, 0.0);
-        for (&turns_w, out) in turns.iter().zip(self.turns.chunks_exact_mut(per)) {
+        let pairs = lines.len() * waves;
+        let (advances, firsts) = self.turns.split_at_mut(BLOCK * waves * per);
+        let outs = advances
+            .chunks_exact_mut(per)
+            .zip(firsts.chunks_exact_mut(tiles));
+        let each = lines
+            .iter()
+            .flat_map(|&line| turns.iter().map(move |&w| (line, w)));
+        for ((line, turns_w), (advances, firsts)) in each.zip(outs) {
             let (q0, dq) = line_phase(line, turns_w);
-            let entries = self.steps.iter().zip(&self.from_first);
-            for (r, (&k, &a)) in out.iter_mut().zip(entries) {
-                *r = reduce(a * q0 + k * dq);
+            for (r, &k) in advances.iter_mut().zip(&self.advances) {
+                *r = reduce(k * dq);
+            }
+            for (r, &k) in firsts.iter_mut().zip(&self.firsts) {
+                *r = reduce(q0 + k * dq);
             }
         }
-        self.sin.resize(waves * per, 0.0);
-        self.cos.resize(waves * per, 0.0);
-        let outs = self.sin.iter_mut().zip(self.cos.iter_mut());
-        for (&r, (s, c)) in self.turns.iter().zip(outs) {
-            (*s, *c) = sin_cos_pi::<F>(r);
+        let (all, at) = (BLOCK * waves * per, pairs * per);
+        let spans = [0..at, all..all + pairs * tiles];
+        for span in spans {
+            let outs = self.sin[span.clone()]
+                .iter_mut()
+                .zip(&mut self.cos[span.clone()]);
+            for (&r, (s, c)) in self.turns[span].iter().zip(outs) {
+                (*s, *c) = sin_cos_pi::<F>(r);
+            }
         }
+        let firsts = self.sin[all..].iter().zip(&self.cos[all..]);
+        let factors = self.ts.iter_mut().zip(self.scales.iter_mut());
+        let each = factors.zip(firsts.zip(&self.powers)).take(pairs * tiles);
+        for ((t, scale), ((&s, &c), &power)) in each {
+            (*t, *scale) = fused_factor(s, c, power);
+        }
+    }
+
+    /// Each wave's table of a tile's advances for row `row` of the block, by angle addition on
+    /// its seeds (two f32 roundings more than a polynomial of their own).
+    #[inline(always)]
+    fn rotate<V: Vector>(&mut self, row: usize) {
+        let (waves, tile, _) = self.shape;
+        let per = SEEDS + tile / SEEDS;
         // Tables start on a 64-byte boundary, as the regular grid's (`phase::Aligned`): whole
         // vector loads that straddle no cache line.
         self.along.resize(waves * 2 * tile + 15, 0.0);
         self.start = self.along.as_ptr().align_offset(64).min(15);
         let along = &mut self.along[self.start..][..waves * 2 * tile];
-        self.ts.resize(waves * tiles, 0.0);
-        self.scales.resize(waves * tiles, 0.0);
-        let angles = self.sin.chunks_exact(per).zip(self.cos.chunks_exact(per));
-        let factors = self
-            .ts
-            .chunks_exact_mut(tiles)
-            .zip(self.scales.chunks_exact_mut(tiles));
-        let each = along.chunks_exact_mut(2 * tile).zip(angles).zip(factors);
-        for (((table, (sin_w, cos_w)), (ts, scales)), &e) in each.zip(exps) {
+        let at = row * waves * per..(row + 1) * waves * per;
+        let angles = self.sin[at.clone()].chunks_exact(per);
+        let angles = angles.zip(self.cos[at].chunks_exact(per));
+        for (table, (sin_w, cos_w)) in along.chunks_exact_mut(2 * tile).zip(angles) {
             let (seed_s, seed_c) = (&sin_w[..SEEDS], &cos_w[..SEEDS]);
-            let by = sin_w[SEEDS..SEEDS + rots]
-                .iter()
-                .zip(&cos_w[SEEDS..SEEDS + rots]);
+            let by = sin_w[SEEDS..].iter().zip(&cos_w[SEEDS..]);
             let (sin, cos) = table.split_at_mut(tile);
             // Rotation 0 is by sin 0 = 0 and cos 0 = 1, both exact: the seeds unchanged.
             let chunks = sin.chunks_exact_mut(SEEDS).zip(cos.chunks_exact_mut(SEEDS));
@@ -275,31 +307,13 @@ impl LineTables {
                     c0.mul_add(cm, -(s0 * sm)).store(&mut cos[l..]);
                 }
             }
-            let firsts = sin_w[SEEDS + rots..].iter().zip(&cos_w[SEEDS + rots..]);
-            for ((t, scale), (&s, &c)) in ts.iter_mut().zip(scales.iter_mut()).zip(firsts) {
-                (*t, *scale) = fused_factor(s, c, e + 2);
-            }
         }
     }
 }
 
-/// A row on a line, every wave at once (the fused loop of the regular grid): its tiles of
-/// `K` vectors take the roles of the regular grid's rows, the advance along a tile those of
-/// its columns. Per wave, one table of a tile's advances and one factor per tile
-/// (`LineTables`); then each tile's heights and slopes stay in registers while every wave adds
-/// to them.
-#[inline(always)]
-fn line_fused<const F: bool, V: Vector, const K: usize>(
-    waves: &[WaveConsts],
-    turns: &[[f64; 3]],
-    line: RowLine,
-    tables: &mut LineTables,
-    [z, nx, ny, nz]: [&mut [f32]; 4],
-) {
-    let (n, tile) = (z.len(), K * V::LANES);
-    let tiles = n.div_ceil(tile);
+/// The exponent of each wave, which the fused loop covers (see `fused::covers`).
+fn int_exps(waves: &[WaveConsts]) -> [u32; MAX_WAVES] {
     assert!(waves.len() <= MAX_WAVES);
-    assert_eq!(tile % SEEDS, 0, "a tile is whole rotations of the seeds");
     let mut exps = [0u32; MAX_WAVES];
     for (e, wave) in exps.iter_mut().zip(waves) {
         *e = match wave.power {
@@ -307,9 +321,29 @@ fn line_fused<const F: bool, V: Vector, const K: usize>(
             Power::General(_) => unreachable!("excluded by `fused::covers`"),
         };
     }
-    tables.fill::<F, V>(turns, &exps[..waves.len()], line, tile, tiles);
+    exps
+}
+
+/// Row `row` of the block `tables` was filled for, every wave at once (the fused loop of the
+/// regular grid): its tiles of `K` vectors take the roles of the regular grid's rows, the
+/// advance along a tile those of its columns. Per wave, one table of a tile's advances and one
+/// factor per tile (`LineTables`); then each tile's heights and slopes stay in registers while
+/// every wave adds to them.
+#[inline(always)]
+fn line_fused<V: Vector, const K: usize>(
+    waves: &[WaveConsts],
+    exps: &[u32; MAX_WAVES],
+    tables: &mut LineTables,
+    row: usize,
+    [z, nx, ny, nz]: [&mut [f32]; 4],
+) {
+    let (n, tile) = (z.len(), K * V::LANES);
+    let tiles = n.div_ceil(tile);
+    assert_eq!(tables.shape, (waves.len(), tile, tiles));
+    tables.rotate::<V>(row);
     let along = &tables.along[tables.start..][..waves.len() * 2 * tile];
-    let (ts, scales) = (&tables.ts, &tables.scales);
+    let at = row * waves.len() * tiles;
+    let (ts, scales) = (&tables.ts[at..], &tables.scales[at..]);
     for s in 0..tiles {
         let mut acc = [[[V::splat(0.0); 3]; K]; 1];
         for (w, wave) in waves.iter().enumerate() {
@@ -423,8 +457,8 @@ struct Points<'a, 'm> {
 impl simd::ForIsa for Points<'_, '_> {
     type Output = ();
 
-    /// Row by row, wave by wave, as the regular grid's per-wave loop: a row's outputs stay in
-    /// L1 while every wave adds to them.
+    /// Row by row, as the regular grid: a row's outputs stay in L1 while every wave adds to
+    /// them. On the fused loop, the tables of a block of `BLOCK` rows are filled at its first.
     #[inline(always)]
     fn run<const F: bool, const K: usize, V: Vector>(self) {
         let Points {
@@ -440,24 +474,51 @@ impl simd::ForIsa for Points<'_, '_> {
             line_tables,
         } = self;
         let n = rows.grid.n;
-        let xs = rows.x.chunks_exact(n).zip(rows.y.chunks_exact(n));
+        let (all_x, all_y) = (&*rows.x, &*rows.y);
+        let xs = all_x.chunks_exact(n).zip(all_y.chunks_exact(n));
         let outs = simd::Out {
             z: rows.z,
             nx: rows.nx,
             ny: rows.ny,
             nz: rows.nz,
         };
+        let exps = if fused {
+            int_exps(waves)
+        } else {
+            [0; MAX_WAVES]
+        };
+        // The block's lines, and which of its rows on a line comes next.
+        let (mut block, mut next) = ([None; BLOCK], 0);
         for (r, ((x, y), [z, nx, ny, nz])) in xs.zip(outs.rows(n)).enumerate() {
-            let line = match lines {
-                Some(lines) => lines[r],
-                None => RowLine::of(x, y),
-            };
+            // A block's lines are found, and its tables filled, at its first row.
+            if r % BLOCK == 0 {
+                let these = r..(r + BLOCK).min(all_x.len() / n);
+                for (i, line) in these.clone().zip(&mut block) {
+                    *line = match lines {
+                        Some(lines) => lines[i],
+                        None => RowLine::of(&all_x[i * n..][..n], &all_y[i * n..][..n]),
+                    };
+                }
+                if fused {
+                    let (mut on, mut count) = ([RowLine::default(); BLOCK], 0);
+                    for line in block[..these.len()].iter().flatten() {
+                        on[count] = *line;
+                        count += 1;
+                    }
+                    let (tile, tiles) = (K * V::LANES, n.div_ceil(K * V::LANES));
+                    let exps = &exps[..waves.len()];
+                    line_tables.fill::<F>(turns_f64, exps, &on[..count], tile, tiles);
+                    next = 0;
+                }
+            }
+            let line = block[r % BLOCK];
             debug_assert!(
                 line.is_none() || RowLine::of(x, y) == line,
                 "row {r} vouched for as a line is not one"
             );
-            if let (Some(line), true) = (line, fused) {
-                line_fused::<F, V, K>(waves, turns_f64, line, line_tables, [z, nx, ny, nz]);
+            if let (Some(_), true) = (line, fused) {
+                line_fused::<V, K>(waves, &exps, line_tables, next, [z, nx, ny, nz]);
+                next += 1;
                 continue;
             }
             z.fill(0.0);
