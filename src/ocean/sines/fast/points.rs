@@ -11,7 +11,8 @@
 //!   before they become f32.
 //! - Any other row (the far line's arc, a rolled camera) takes each vertex's half angle from
 //!   its own x, y by a polynomial sin and cos of π·r (r reduced to [−½, ½]), written lane by
-//!   lane so LLVM vectorises it.
+//!   lane so LLVM vectorises it. On the fused loop (AVX-512), those sin and cos are a tile's
+//!   columns with a row factor of 1, so every wave adds to the tile in registers there too.
 
 use super::fused::{self, add_tile, store_tile};
 use super::math::fma;
@@ -369,6 +370,53 @@ fn line_fused<V: Vector, const K: usize>(
     }
 }
 
+/// A row off any line, every wave at once: a tile's half angles vertex by vertex (as
+/// `half_angles`), then the fused tile loop with those as its columns and a row factor of 1
+/// (t = 0: h and g are each vertex's own sin and cos, exactly), so the tile's heights and
+/// slopes stay in registers while every wave adds to them. `table` is scratch.
+#[inline(always)]
+fn points_fused<const F: bool, V: Vector, const K: usize>(
+    waves: &[WaveConsts],
+    exps: &[u32; MAX_WAVES],
+    turns: &[[f32; 3]],
+    [x, y]: [&[f32]; 2],
+    table: &mut Vec<f32>,
+    [z, nx, ny, nz]: [&mut [f32]; 4],
+) {
+    let (n, tile) = (z.len(), K * V::LANES);
+    // Entries past a short last tile keep earlier values: they are computed on, never stored.
+    if table.len() < waves.len() * 2 * tile {
+        table.resize(waves.len() * 2 * tile, 0.0);
+    }
+    let zero = (V::splat(0.0), V::splat(-0.0));
+    for s in 0..n.div_ceil(tile) {
+        let cols = s * tile..((s + 1) * tile).min(n);
+        let m = cols.len();
+        let tables = table.chunks_exact_mut(2 * tile).zip(turns);
+        for (table, &turns_w) in tables {
+            let (sin, cos) = table.split_at_mut(tile);
+            let (xs, ys) = (&x[cols.clone()], &y[cols.clone()]);
+            half_angles::<F>(turns_w, xs, ys, &mut sin[..m], &mut cos[..m]);
+        }
+        let mut acc = [[[V::splat(0.0); 3]; K]; 1];
+        for (w, (wave, table)) in waves.iter().zip(table.chunks_exact(2 * tile)).enumerate() {
+            // add_tile's u = a·t + b and v = b·(−t) + a are then b = sin and a = cos.
+            let (sin, cos) = table.split_at(tile);
+            let k = [wave.amp, wave.cx, wave.cy].map(V::splat);
+            by_exp!(
+                exps[w],
+                add_tile::<V, K, 1, true>(&mut acc, (cos, sin), zero, k)
+            );
+        }
+        let out = [&mut *z, &mut *nx, &mut *ny, &mut *nz];
+        if m == tile {
+            store_tile::<V, K, 1, true, true>(acc, out, s * tile);
+        } else {
+            store_tile::<V, K, 1, true, false>(acc, out, s * tile);
+        }
+    }
+}
+
 /// The fast kernel's state for scattered points: the waves' constants, the instruction set,
 /// and the sin and cos buffers of one row (per vertex, or per segment and along one).
 #[derive(Clone, Debug)]
@@ -519,6 +567,10 @@ impl simd::ForIsa for Points<'_, '_> {
             if let (Some(_), true) = (line, fused) {
                 line_fused::<V, K>(waves, &exps, line_tables, next, [z, nx, ny, nz]);
                 next += 1;
+                continue;
+            }
+            if fused {
+                points_fused::<F, V, K>(waves, &exps, turns, [x, y], along, [z, nx, ny, nz]);
                 continue;
             }
             z.fill(0.0);
