@@ -19,7 +19,7 @@ pub const SCHEMA_VERSION: u32 = 1;
 /// The file a run's folder holds.
 pub const FILE_NAME: &str = "bench.json";
 
-/// A benchmark run as committed under results/bench-<name>-<UTC>/bench.json.
+/// A benchmark run as committed under `results/bench-<name>-<UTC>/bench.json`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BenchRun {
     /// The layout version ([`SCHEMA_VERSION`]).

@@ -1,5 +1,9 @@
 //! Command-line definitions (clap). The commands themselves are in `commands/`.
 
+// The doc comments here are clap's `--help` text, where `<name>` is a placeholder as the
+// terminal shows it, not an HTML tag; backticks would print as backticks.
+#![allow(rustdoc::invalid_html_tags)]
+
 use crate::cell::{Dim, Value};
 use crate::named::Named;
 use crate::report::chart::ChartFormat;

@@ -56,7 +56,7 @@ pub struct SweepConfig {
     pub waves_file: Option<PathBuf>,
     /// The FFT ocean's parameters file (default: the values of `configs/fft-ocean.json`).
     pub fft_params: Option<PathBuf>,
-    /// Cores for main and helper: [main] or [main, helper] (default: the first allowed).
+    /// Cores for main and helper: `[main]` or `[main, helper]` (default: the first allowed).
     pub cores: Option<Vec<usize>>,
     /// Seconds a hand-off wait may take before the cell is aborted.
     pub timeout_seconds: f64,

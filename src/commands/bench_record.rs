@@ -1,5 +1,5 @@
 //! `oceanbench bench-record`: the estimates a `cargo bench` run just wrote, as a committed
-//! results/bench-<name>-<UTC>/bench.json.
+//! `results/bench-<name>-<UTC>/bench.json`.
 
 use super::{command_line, default_out_dir, CliError};
 use crate::bench_run::{BenchRun, FILE_NAME};

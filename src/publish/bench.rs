@@ -1,4 +1,4 @@
-//! `bench` blocks: a benchmark run's estimates (results/bench-<name>-<UTC>/bench.json) as a
+//! `bench` blocks: a benchmark run's estimates (`results/bench-<name>-<UTC>/bench.json`) as a
 //! table, one estimate, or the ratio of two.
 
 use super::{qualified, Block, BlockError};

@@ -14,12 +14,12 @@
 //! - `const name=NAME`: a constant of the code;
 //! - `ref name=NAME`: a number quoted from outside the project, kept with its source in
 //!   `docs/references.json` ([`refs`]);
-//! - `grid run=R rows=".." cols=".."`: a table of one stat of many cells ([`grid`]);
+//! - `grid run=R rows=".." cols=".."`: a table of one stat of many cells (`grid.rs`);
 //! - `config file=configs/F.json key=K`: a value of a committed config (`key` a dotted path,
 //!   with indexes for lists; a list renders as `a, b, c`);
 //! - `bench run=bench-... [id=ID [over=ID]] [ids=PREFIX,...]`: a benchmark run's estimates;
 //! - `latency run=latency-... [method=M cores=one|two [stat=..] [over=M2] [unit=..] [digits=N]]`:
-//!   a latency run's round-trip table, or one number of it ([`latency`]);
+//!   a latency run's round-trip table, or one number of it (`latency.rs`);
 //! - `compare run=BASE new=NEW [placement=P] [threshold=T]`: `oceanbench compare`'s verdict
 //!   counts for the two runs and its exit status.
 

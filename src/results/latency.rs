@@ -101,7 +101,7 @@ impl MethodRepeats {
     }
 }
 
-/// A latency run as written to results/latency-<UTC>/latency.json.
+/// A latency run as written to `results/latency-<UTC>/latency.json`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LatencyRun {
     /// The layout version ([`SCHEMA_VERSION`]); 0 for a bare list of rows from before.

@@ -26,7 +26,7 @@ pub fn run(iterations: u64, seed: u64) -> u64 {
 /// far too few looks to show in the timing and often enough to stop any frame at once.
 const CHUNK: u64 = 1 << 14;
 
-/// Runs `iterations` steps as [`run`] does, looking at `stop` every [`CHUNK`] iterations; `None`
+/// Runs `iterations` steps as [`run`] does, looking at `stop` every `CHUNK` iterations; `None`
 /// when it was raised before the work was done.
 pub fn run_unless(iterations: u64, seed: u64, stop: Option<&AtomicBool>) -> Option<u64> {
     let mut z = seed;

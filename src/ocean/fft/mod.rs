@@ -43,7 +43,7 @@ impl Model for FftOcean {
 
     /// `reference`: eight fields from four transforms, checked against the direct sum of
     /// [`Spectrum::fields_f64`] in the tests; `fast`: the same heights and displacements from
-    /// two of them, slopes and the Jacobian's diagonal from differences ([`fill`]).
+    /// two of them, slopes and the Jacobian's diagonal from differences (`fill.rs`).
     fn kernels(&self) -> &'static [Kernel] {
         &[Kernel::Reference, Kernel::Fast]
     }
@@ -247,7 +247,7 @@ impl Passes {
 /// Eight real fields come out of four complex transforms, two per transform (a + ib, both
 /// Hermitian, transforms to A + iB): (h, ∂Dx/∂y · [`Terms::dxy_scale`]), (Dx, Dy),
 /// (∂h/∂x, ∂h/∂y), (∂Dx/∂x, ∂Dy/∂y); the `fast` kernel makes the first two and takes the rest
-/// from differences ([`fill`]).
+/// from differences (`fill.rs`).
 #[derive(Clone, Debug)]
 pub struct FftState {
     n: usize,

@@ -59,7 +59,7 @@ impl Strips {
     }
 }
 
-/// An unnormalised inverse 2-D transform, out[i][j] = Σ_a Σ_b in[b][a] e^{2πi(a·i + b·j)/N}:
+/// An unnormalised inverse 2-D transform, `out[i][j] = Σ_a Σ_b in[b][a] e^{2πi(a·i + b·j)/N}`:
 /// its input is laid out transposed (row b holds the coefficients of x-wavenumber index b), so
 /// that the column pass's output rows are the output's rows.
 #[derive(Clone)]
