@@ -31,6 +31,20 @@ pub fn covers(waves: &[WaveConsts]) -> bool {
     waves.iter().all(|w| matches!(w.power, Power::Int(_)))
 }
 
+/// The exponent of each wave, padded to `MAX_WAVES`; the waves must be covered (see
+/// [`covers`]).
+pub(super) fn exps(waves: &[WaveConsts]) -> [u32; MAX_WAVES] {
+    assert!(waves.len() <= MAX_WAVES);
+    let mut exps = [0u32; MAX_WAVES];
+    for (e, wave) in exps.iter_mut().zip(waves) {
+        *e = match wave.power {
+            Power::Int(e) => e,
+            Power::General(_) => unreachable!("excluded by `covers`"),
+        };
+    }
+    exps
+}
+
 /// A step on the fused loop, for [`dispatch`](super::simd::dispatch); its waves must be
 /// covered (see [`covers`]).
 pub struct Fused<'a>(pub Step<'a>);
@@ -60,15 +74,10 @@ fn rows<V: Vector, const K: usize, const T: usize, const S: bool>(step: Step) {
     let (n, m, stride) = (tables.grid.n, tables.rows, tables.stride);
     let tile = T * K * V::LANES;
     assert_eq!(stride % tile, 0, "column tables padded to whole tiles");
-    assert!(waves.len() <= MAX_WAVES);
     // Each wave's exponent and constants, and below each row's values, gathered where the
     // tile loop indexes them without bounds checks.
-    let (mut exps, mut consts) = ([0u32; MAX_WAVES], [[0.0f32; 3]; MAX_WAVES]);
-    for ((e, k), wave) in exps.iter_mut().zip(&mut consts).zip(waves) {
-        *e = match wave.power {
-            Power::Int(e) => e,
-            Power::General(_) => unreachable!("excluded by `covers`"),
-        };
+    let (exps, mut consts) = (exps(waves), [[0.0f32; 3]; MAX_WAVES]);
+    for (k, wave) in consts.iter_mut().zip(waves) {
         *k = [wave.amp, wave.cx, wave.cy];
     }
     for (i, [z, nx, ny, nz]) in out.rows(n).enumerate() {

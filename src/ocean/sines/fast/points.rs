@@ -312,19 +312,6 @@ impl LineTables {
     }
 }
 
-/// The exponent of each wave, which the fused loop covers (see `fused::covers`).
-fn int_exps(waves: &[WaveConsts]) -> [u32; MAX_WAVES] {
-    assert!(waves.len() <= MAX_WAVES);
-    let mut exps = [0u32; MAX_WAVES];
-    for (e, wave) in exps.iter_mut().zip(waves) {
-        *e = match wave.power {
-            Power::Int(e) => e,
-            Power::General(_) => unreachable!("excluded by `fused::covers`"),
-        };
-    }
-    exps
-}
-
 /// Row `row` of the block `tables` was filled for, every wave at once (the fused loop of the
 /// regular grid): its tiles of `K` vectors take the roles of the regular grid's rows, the
 /// advance along a tile those of its columns. Per wave, one table of a tile's advances and one
@@ -531,7 +518,7 @@ impl simd::ForIsa for Points<'_, '_> {
             nz: rows.nz,
         };
         let exps = if fused {
-            int_exps(waves)
+            fused::exps(waves)
         } else {
             [0; MAX_WAVES]
         };
