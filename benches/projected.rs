@@ -4,6 +4,7 @@
 //! cost of placing the vertices and of evaluating the waves at scattered points; the regular
 //! grid with the paper's `neighbors` normals is listed too. `place` is the ray–plane work alone,
 //! `evaluate-placed` the fast kernel at the points it placed: the projected step's two parts.
+//! At 256² each part is also timed on the rows that lie on a line and on those that do not.
 //! The camera is the default one (pitch 30°, fov 60°, height framing the patch), whose image's
 //! top edge lies on the horizon, so the far clamp is exercised too.
 //!
@@ -20,6 +21,9 @@ use oceanbench::ocean::{FftOcean, Grid, GridKind, Kernel, Model, NormalMethod, O
 use oceanbench::projected;
 
 const SIZES: [usize; 4] = [40, 128, 256, 512];
+
+/// The N at which each part of the projected step is also timed on its two bands of rows.
+const SPLIT_N: usize = 256;
 
 fn steps(c: &mut Criterion) {
     let params = OceanParams::default();
@@ -73,6 +77,35 @@ fn steps(c: &mut Criterion) {
         group.bench_function(BenchmarkId::new("evaluate-placed", n), |b| {
             b.iter(|| surface.step_rows_on_lines(black_box(1.5), mesh.rows_mut(0..n), &lines))
         });
+        if n != SPLIT_N {
+            continue;
+        }
+        // Each part again on the band of rows that lie on a line and on the band of those
+        // that do not (the far clamp's, at the image's top), so a row of each kind has a
+        // cost of its own to set beside the regular grid's (its step ÷ n).
+        let on = lines.iter().take_while(|line| line.is_some()).count();
+        assert!(
+            0 < on && lines[on..].iter().all(Option::is_none),
+            "the default camera's rows on a line come first"
+        );
+        for (band, rows) in [("on-lines", 0..on), ("off-lines", on..n)] {
+            let mut band_lines = Vec::with_capacity(n);
+            let id = format!("place-{band}-{}-rows", rows.len());
+            group.bench_function(BenchmarkId::new(id, n), |b| {
+                b.iter(|| {
+                    let mut rows = mesh.rows_mut(rows.clone());
+                    projected::place(black_box(&view), &mut rows, &mut band_lines)
+                })
+            });
+            let id = format!("evaluate-placed-{band}-{}-rows", rows.len());
+            let band_lines = &lines[rows.clone()];
+            group.bench_function(BenchmarkId::new(id, n), |b| {
+                b.iter(|| {
+                    let rows = mesh.rows_mut(rows.clone());
+                    surface.step_rows_on_lines(black_box(1.5), rows, band_lines)
+                })
+            });
+        }
     }
     group.finish();
 }
