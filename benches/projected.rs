@@ -81,14 +81,16 @@ fn steps(c: &mut Criterion) {
             continue;
         }
         // Each part again on the band of rows that lie on a line and on the band of those
-        // that do not (the far clamp's, at the image's top), so a row of each kind has a
-        // cost of its own to set beside the regular grid's (its step ÷ n).
+        // that do not (the far clamp's, at the image's top), so a vertex of each kind has a
+        // cost of its own to set beside the regular grid's.
         let on = lines.iter().take_while(|line| line.is_some()).count();
         assert!(
             0 < on && lines[on..].iter().all(Option::is_none),
             "the default camera's rows on a line come first"
         );
         for (band, rows) in [("on-lines", 0..on), ("off-lines", on..n)] {
+            // The band's vertices, so a time per element is one per vertex of the band.
+            group.throughput(Throughput::Elements((rows.len() * n) as u64));
             let mut band_lines = Vec::with_capacity(n);
             let id = format!("place-{band}-{}-rows", rows.len());
             group.bench_function(BenchmarkId::new(id, n), |b| {
