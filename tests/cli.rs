@@ -3,18 +3,12 @@
 
 mod common;
 
-use common::{assert_success, oceanbench, refuses, FIXTURE};
+use common::{assert_success, oceanbench, refuses, write_file, FIXTURE};
 use oceanbench::config::SweepConfig;
 use oceanbench::ocean::{FftParams, Grid, Kernel, NormalMethod, OceanKind, OceanParams, WaveSet};
 use oceanbench::results::Results;
 use std::path::Path;
 use std::process::Command;
-
-fn write(dir: &Path, name: &str, text: &str) -> String {
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path.to_string_lossy().into_owned()
-}
 
 #[test]
 fn bad_flags_exit_2_with_one_line() {
@@ -165,7 +159,7 @@ fn bad_configs_exit_2_naming_the_field() {
         (r#"{"sizes": [40"#, vec!["not valid JSON"]),
     ];
     for (i, (text, needles)) in cases.iter().enumerate() {
-        let path = write(dir.path(), &format!("bad{i}.json"), text);
+        let path = write_file(dir.path(), &format!("bad{i}.json"), text);
         let out = dir.path().join(format!("out{i}"));
         refuses(&["sweep", &path, "--out", out.to_str().unwrap()], needles);
         assert!(
@@ -182,7 +176,7 @@ fn bad_configs_exit_2_naming_the_field() {
 #[test]
 fn a_config_with_several_errors_lists_them_all_one_line_each() {
     let dir = tempfile::tempdir().unwrap();
-    let path = write(
+    let path = write_file(
         dir.path(),
         "several.json",
         r#"{"trials": 0, "spacing": -1, "workloads": [7], "camera": {"height": 0}, "cores": [0, 0]}"#,
@@ -207,7 +201,7 @@ fn a_config_with_several_errors_lists_them_all_one_line_each() {
     }
     assert!(!out_dir.exists(), "nothing is written for a bad config");
 
-    let unknown = write(
+    let unknown = write_file(
         dir.path(),
         "unknown.json",
         r#"{"sizez": [40], "modes": ["tri"], "wavez": []}"#,
@@ -241,7 +235,7 @@ where
 #[test]
 fn mesh_csv_has_one_row_per_vertex_and_matches_the_equations() {
     let dir = tempfile::tempdir().unwrap();
-    let waves = write(
+    let waves = write_file(
         dir.path(),
         "waves.json",
         r#"{"waves": [
@@ -307,7 +301,7 @@ fn fft_bad_input_exits_2_with_one_line_and_keeps_the_output_file() {
         &[&mesh("64")[..], &["--kernel", "turbo"]].concat(),
         &["kernel", "reference", "fast"],
     );
-    let params = |name: &str, text: &str| write(dir.path(), name, text);
+    let params = |name: &str, text: &str| write_file(dir.path(), name, text);
     for (text, field) in [
         (r#"{"wind_speed": -1}"#, "wind_speed"),
         (r#"{"amplitude": -1e-8}"#, "amplitude"),
@@ -383,7 +377,7 @@ fn fft_bad_input_exits_2_with_one_line_and_keeps_the_output_file() {
 #[test]
 fn fft_mesh_csv_has_the_fold_column_and_the_model_s_surface() {
     let dir = tempfile::tempdir().unwrap();
-    let params = write(
+    let params = write_file(
         dir.path(),
         "p.json",
         r#"{"patch_metres": 200, "wind_speed": 15, "amplitude": 1e-6, "choppiness": 1.2}"#,
@@ -435,7 +429,7 @@ fn fft_mesh_csv_has_the_fold_column_and_the_model_s_surface() {
 #[test]
 fn a_tiny_sweep_writes_json_csv_and_markdown() {
     let dir = tempfile::tempdir().unwrap();
-    let config = write(
+    let config = write_file(
         dir.path(),
         "tiny.json",
         r#"{"name": "tiny", "sizes": [8, 12], "workloads": [0, 1], "sync": ["atomic", "condvar"],
@@ -507,7 +501,7 @@ fn help_shows_examples() {
 #[test]
 fn sigterm_keeps_finished_cells_and_prints_the_resume_command() {
     let dir = tempfile::tempdir().unwrap();
-    let config = write(
+    let config = write_file(
         dir.path(),
         "long.json",
         r#"{"name": "long", "sizes": [8, 9, 10, 11, 12, 13, 14, 15], "workloads": [0],
@@ -566,7 +560,7 @@ fn sigterm_keeps_finished_cells_and_prints_the_resume_command() {
         unplaced(&kept.cells)
     );
     // A config that differs from the recorded one is refused.
-    let other = write(
+    let other = write_file(
         dir.path(),
         "other.json",
         r#"{"name": "long", "sizes": [8]}"#,
@@ -823,7 +817,7 @@ fn compare_exits_0_unchanged_1_regressed_2_bad_input() {
         &["--threshold"],
     );
     refuses(&["compare", fixture], &["--by"]);
-    let notes = write(dir.path(), "notes.json", r#"{"hello": 1}"#);
+    let notes = write_file(dir.path(), "notes.json", r#"{"hello": 1}"#);
     refuses(
         &["compare", &notes, fixture],
         &["not an oceanbench results file"],
@@ -857,7 +851,7 @@ fn chart_redraws_from_a_results_file_and_refuses_bad_paths() {
         &["chart", "/nonexistent/results"],
         &["/nonexistent/results"],
     );
-    let notes = write(dir.path(), "notes.json", "[1, 2, 3]");
+    let notes = write_file(dir.path(), "notes.json", "[1, 2, 3]");
     refuses(&["chart", &notes], &["not an oceanbench results file"]);
     refuses(&["chart", FIXTURE, "--format", "gif"], &["png, svg"]);
 }
@@ -965,13 +959,11 @@ fn bad_particle_counts_exit_2_with_one_line_and_keep_what_was_written() {
 fn bad_spray_configs_exit_2_naming_the_field() {
     let dir = tempfile::tempdir().unwrap();
     let config = |extra: &str, levels: &str| {
-        let path = dir.path().join("spray.json");
         let text = format!(
             r#"{{"sizes": [16], "modes": ["serial"], "ocean": ["fft"], "normals": ["analytic"],
                 "workload_kind": ["spray"], "workloads": [0], "workload_levels": [{levels}]{extra}}}"#
         );
-        std::fs::write(&path, text).unwrap();
-        path.to_string_lossy().into_owned()
+        write_file(dir.path(), "spray.json", &text)
     };
     let good = r#"{"particles": 1000}"#;
     for (extra, levels, needles) in [
@@ -1044,19 +1036,18 @@ fn bad_spray_configs_exit_2_naming_the_field() {
 #[test]
 fn a_sweep_over_both_oceans_skips_the_spray_cells_on_sines_and_says_so_once() {
     let dir = tempfile::tempdir().unwrap();
-    let config = dir.path().join("both.json");
-    std::fs::write(
-        &config,
+    let config = write_file(
+        dir.path(),
+        "both.json",
         r#"{"sizes": [16], "modes": ["serial"], "ocean": ["sines", "fft"],
             "normals": ["analytic"], "workload_kind": ["spray"], "workloads": [0],
             "workload_levels": [{"particles": 500}], "trials": 1, "warmup_frames": 0,
             "min_frames": 3, "min_seconds": 0, "calibrate": "once"}"#,
-    )
-    .unwrap();
+    );
     let out = dir.path().join("out");
     let run = oceanbench(&[
         "sweep",
-        &config.to_string_lossy(),
+        &config,
         "--out",
         &out.to_string_lossy(),
         "--no-charts",
@@ -1233,18 +1224,17 @@ fn completions_and_man_pages_cover_every_command() {
 #[test]
 fn the_doctor_examines_the_sweeps_cores_unless_told_not_to() {
     let dir = tempfile::tempdir().unwrap();
-    let config = dir.path().join("tiny.json");
-    std::fs::write(
-        &config,
+    let config = write_file(
+        dir.path(),
+        "tiny.json",
         r#"{"sizes": [8], "modes": ["serial"], "workloads": [0], "trials": 1,
             "warmup_frames": 0, "min_frames": 3, "min_seconds": 0, "calibrate": "once"}"#,
-    )
-    .unwrap();
+    );
     for (flags, examined) in [(&[][..], true), (&["--no-doctor"][..], false)] {
         let out = dir.path().join(format!("out{}", flags.len()));
         let mut args = vec![
             "sweep".to_string(),
-            config.to_string_lossy().into_owned(),
+            config.clone(),
             "--out".into(),
             out.to_string_lossy().into_owned(),
             "--no-charts".into(),

@@ -5,7 +5,7 @@ mod common;
 
 use common::{
     assert_cell_provenance, assert_input_error, assert_run_provenance, assert_success,
-    oceanbench_locked,
+    oceanbench_locked, write_file,
 };
 use oceanbench::findings::provenance;
 use oceanbench::frame_log;
@@ -132,20 +132,19 @@ fn a_run_logs_its_last_trial_frame_by_frame_in_mangohud_columns() {
 #[test]
 fn a_sweep_logs_every_cell_and_refuses_a_folder_holding_their_logs() {
     let dir = tempfile::tempdir().unwrap();
-    let config = dir.path().join("tiny.json");
-    std::fs::write(
-        &config,
+    let config = write_file(
+        dir.path(),
+        "tiny.json",
         r#"{"name": "tiny", "sizes": [8], "workloads": [0], "modes": ["serial", "dp"],
             "sync": ["atomic"], "trials": 1, "warmup_frames": 2, "min_frames": 25,
             "min_seconds": 0.0, "workload_levels": [{"micros": 0}]}"#,
-    )
-    .unwrap();
+    );
     let logs = dir.path().join("logs");
     let sweep = |out: &str| {
         let out = dir.path().join(out);
         let args = [
             "sweep",
-            config.to_str().unwrap(),
+            &config,
             "--out",
             out.to_str().unwrap(),
             "--quiet",

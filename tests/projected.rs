@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{assert_one_line_exit_2, assert_success, oceanbench};
+use common::{assert_one_line_exit_2, assert_success, oceanbench, write_file};
 use oceanbench::camera::{Camera, CameraPath, View};
 use oceanbench::ocean::sines::Sines;
 use oceanbench::ocean::{FftOcean, FftParams};
@@ -344,28 +344,20 @@ fn bad_cameras_and_combinations_exit_2_with_one_line_and_keep_the_output() {
             vec!["camera.path.period", "period_seconds"],
         ),
     ] {
-        let config = dir.path().join("c.json");
-        std::fs::write(&config, format!(r#"{{{base}, "camera": {camera}}}"#)).unwrap();
-        let args = [
-            "sweep",
-            config.to_str().unwrap(),
-            "--out",
-            results.to_str().unwrap(),
-        ];
+        let config = write_file(
+            dir.path(),
+            "c.json",
+            &format!(r#"{{{base}, "camera": {camera}}}"#),
+        );
+        let args = ["sweep", &config, "--out", results.to_str().unwrap()];
         refused(&args, &needles, &kept);
     }
-    let config = dir.path().join("c.json");
-    std::fs::write(
-        &config,
-        format!(r#"{{{}}}"#, base.replace("analytic", "neighbors")),
-    )
-    .unwrap();
-    let args = [
-        "sweep",
-        config.to_str().unwrap(),
-        "--out",
-        results.to_str().unwrap(),
-    ];
+    let config = write_file(
+        dir.path(),
+        "c.json",
+        &format!(r#"{{{}}}"#, base.replace("analytic", "neighbors")),
+    );
+    let args = ["sweep", &config, "--out", results.to_str().unwrap()];
     refused(&args, &["normals", "analytic"], &kept);
     refused(
         &[

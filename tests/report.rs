@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{assert_success, fixture, oceanbench, root};
+use common::{assert_success, fixture, oceanbench, root, write_file};
 use oceanbench::cell::Dim;
 use oceanbench::report::chart::{self, ChartOptions};
 use oceanbench::report::compare::{self, Metric};
@@ -356,18 +356,17 @@ fn bad_input_is_one_line_exit_2_and_nothing_written() {
 #[test]
 fn sweep_writes_the_report_and_records_its_command_line() {
     let dir = tempfile::tempdir().unwrap();
-    let config = dir.path().join("tiny.json");
-    std::fs::write(
-        &config,
+    let config = write_file(
+        dir.path(),
+        "tiny.json",
         r#"{"name": "tiny", "description": "<script>x</script>", "sizes": [8], "workloads": [0],
             "modes": ["serial", "dp"], "sync": ["atomic"], "trials": 1, "warmup_frames": 1,
             "min_frames": 3, "min_seconds": 0.0, "workload_levels": [{"micros": 0}]}"#,
-    )
-    .unwrap();
+    );
     let sweep = |out: &Path, extra: &[&str]| {
         let mut args = vec![
             "sweep",
-            config.to_str().unwrap(),
+            config.as_str(),
             "--out",
             out.to_str().unwrap(),
             "--quiet",
@@ -383,10 +382,7 @@ fn sweep_writes_the_report_and_records_its_command_line() {
     let r = Results::load(&with).unwrap();
     assert_eq!(r.schema_version, SCHEMA_VERSION);
     let command = r.command.clone().expect("the command line is recorded");
-    assert_eq!(
-        command[1..3],
-        ["sweep".to_string(), config.display().to_string()]
-    );
+    assert_eq!(command[1..3], ["sweep".to_string(), config.clone()]);
     let doc = Html::parse_document(&std::fs::read_to_string(with.join("report.html")).unwrap());
     assert!(fact(&doc, "command line").contains("--no-charts"));
     assert_eq!(fact(&doc, "description"), "<script>x</script>");

@@ -80,18 +80,17 @@ fn one_sigterm_ends_a_minute_long_frame_at_once() {
 #[test]
 fn an_interrupted_sweep_keeps_the_rows_it_finished() {
     let dir = tempfile::tempdir().unwrap();
-    let config = dir.path().join("stop.json");
-    std::fs::write(
-        &config,
+    let config = common::write_file(
+        dir.path(),
+        "stop.json",
         r#"{"sizes": [8], "workloads": [0, 1], "modes": ["serial"], "trials": 1,
             "warmup_frames": 1, "min_frames": 3, "min_seconds": 0, "timeout_seconds": 120,
             "workload_levels": [{"micros": 0}, {"micros": 60000000}]}"#,
-    )
-    .unwrap();
+    );
     let out = dir.path().join("out");
     let child = start(&[
         "sweep",
-        config.to_str().unwrap(),
+        &config,
         "--out",
         out.to_str().unwrap(),
         "--quiet",

@@ -5,7 +5,9 @@
 
 mod common;
 
-use common::{assert_input_error, assert_run_provenance, assert_success, oceanbench_locked};
+use common::{
+    assert_input_error, assert_run_provenance, assert_success, oceanbench_locked, write_file,
+};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -305,20 +307,19 @@ fn a_split_step_draws_its_phases_inside_each_helpers_step() {
 #[test]
 fn a_sweep_traces_the_cells_its_filter_chooses() {
     let dir = tempfile::tempdir().unwrap();
-    let config = dir.path().join("tiny.json");
-    std::fs::write(
-        &config,
+    let config = write_file(
+        dir.path(),
+        "tiny.json",
         r#"{"name": "tiny", "sizes": [8], "workloads": [0], "sync": ["atomic", "condvar"],
             "trials": 2, "warmup_frames": 2, "min_frames": 5, "min_seconds": 0.0,
             "workload_levels": [{"micros": 0}]}"#,
-    )
-    .unwrap();
+    );
     let traces = dir.path().join("traces");
     let out = oceanbench_locked(
         dir.path(),
         &[
             "sweep",
-            config.to_str().unwrap(),
+            &config,
             "--out",
             dir.path().join("run").to_str().unwrap(),
             "--quiet",

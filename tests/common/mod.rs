@@ -44,6 +44,13 @@ pub fn five_trials() -> Results {
     r
 }
 
+/// Writes `text` to `dir/name` and gives the path as a command-line argument.
+pub fn write_file(dir: &Path, name: &str, text: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.to_string_lossy().into_owned()
+}
+
 /// The binary with `args`, in the checkout's top folder, for a test to set up further.
 pub fn command(args: &[impl AsRef<OsStr>]) -> Command {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_oceanbench"));
