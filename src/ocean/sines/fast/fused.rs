@@ -112,27 +112,34 @@ fn rows<V: Vector, const K: usize, const T: usize, const S: bool>(step: Step) {
                 by_exp!(exps[w], add_tile::<V, K, T, S>(&mut acc, cols, t, k));
             }
             let out = [&mut *z, &mut *nx, &mut *ny, &mut *nz];
-            // The tail's partial stores are kept apart so they cannot make the whole tiles
-            // spill their accumulators.
-            if c + tile <= n {
-                store_tile::<V, K, T, S, true>(acc, out, c);
-            } else {
-                store_tile::<V, K, T, S, false>(acc, out, c);
-            }
+            store_tile::<V, K, T, S>(acc, out, c, c + tile <= n);
         }
     }
 }
 
-/// Stores a tile's heights and, with `S`, its normals at column `c` of the row `out` (z, nx,
-/// ny, nz); `WHOLE` when the tile lies inside the row.
+/// Stores a tile of `T` groups of `K` vectors, its heights and, with `S`, its normals, at column
+/// `c` of the row `out` (z, nx, ny, nz). `whole` says the tile lies inside the row; otherwise the
+/// row ends inside the tile. Callers work `whole` out in their own loop's terms, which leaves
+/// the machine code of their loops as it was when each wrote this branch itself.
 #[inline(always)]
-pub(super) fn store_tile<
-    V: Vector,
-    const K: usize,
-    const T: usize,
-    const S: bool,
-    const WHOLE: bool,
->(
+pub(super) fn store_tile<V: Vector, const K: usize, const T: usize, const S: bool>(
+    acc: [[[V; 3]; K]; T],
+    out: [&mut [f32]; 4],
+    c: usize,
+    whole: bool,
+) {
+    // The tail's partial stores are kept apart so they cannot make the whole tiles spill their
+    // accumulators.
+    if whole {
+        store_part::<V, K, T, S, true>(acc, out, c);
+    } else {
+        store_part::<V, K, T, S, false>(acc, out, c);
+    }
+}
+
+/// [`store_tile`] for a tile that lies inside the row (`WHOLE`) or runs past its end.
+#[inline(always)]
+fn store_part<V: Vector, const K: usize, const T: usize, const S: bool, const WHOLE: bool>(
     acc: [[[V; 3]; K]; T],
     [z, nx, ny, nz]: [&mut [f32]; 4],
     c: usize,

@@ -349,11 +349,7 @@ fn line_fused<V: Vector, const K: usize>(
             by_exp!(exps[w], add_tile::<V, K, 1, true>(&mut acc, cols, t, k));
         }
         let out = [&mut *z, &mut *nx, &mut *ny, &mut *nz];
-        if (s + 1) * tile <= n {
-            store_tile::<V, K, 1, true, true>(acc, out, s * tile);
-        } else {
-            store_tile::<V, K, 1, true, false>(acc, out, s * tile);
-        }
+        store_tile::<V, K, 1, true>(acc, out, s * tile, (s + 1) * tile <= n);
     }
 }
 
@@ -396,11 +392,7 @@ fn points_fused<const F: bool, V: Vector, const K: usize>(
             );
         }
         let out = [&mut *z, &mut *nx, &mut *ny, &mut *nz];
-        if m == tile {
-            store_tile::<V, K, 1, true, true>(acc, out, s * tile);
-        } else {
-            store_tile::<V, K, 1, true, false>(acc, out, s * tile);
-        }
+        store_tile::<V, K, 1, true>(acc, out, s * tile, m == tile);
     }
 }
 
