@@ -19,6 +19,7 @@ pub mod frame_log;
 pub mod frame_loop;
 pub mod grid;
 pub mod input;
+pub mod isa;
 pub mod latency;
 pub mod level;
 pub mod lock;

@@ -14,6 +14,7 @@
 
 use crate::camera::{Camera, View};
 use crate::input::InputError;
+use crate::isa;
 use crate::ocean::{
     Grid, GridKind, Kernel, Mesh, MeshRows, Model, NormalMethod, OceanParams, RowLine, Stepper,
 };
@@ -146,32 +147,24 @@ impl Stepper for Projected {
 /// a level row short of far was laid on (None for every other row).
 pub fn place(view: &View, rows: &mut MeshRows<'_>, lines: &mut Vec<Option<RowLine>>) {
     lines.clear();
-    #[cfg(target_arch = "x86_64")]
-    {
-        if is_x86_feature_detected!("avx512f") {
-            // SAFETY: the CPU has AVX-512F, checked above.
-            return unsafe { place_avx512(view, rows, lines) };
-        }
-        if is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2, checked above.
-            return unsafe { place_avx2(view, rows, lines) };
-        }
+    isa::run_widest(Place { view, rows, lines })
+}
+
+/// `place_rows` as a loop for [`isa::run_widest`]: its division and square root run as wide as
+/// the CPU allows.
+struct Place<'a, 'm> {
+    view: &'a View,
+    rows: &'a mut MeshRows<'m>,
+    lines: &'a mut Vec<Option<RowLine>>,
+}
+
+impl isa::Loop for Place<'_, '_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        place_rows(self.view, self.rows, self.lines)
     }
-    place_rows(view, rows, lines)
-}
-
-/// `place_rows` compiled for AVX-512: the row loop's division and square root run 16 wide.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx2")]
-fn place_avx512(view: &View, rows: &mut MeshRows<'_>, lines: &mut Vec<Option<RowLine>>) {
-    place_rows(view, rows, lines)
-}
-
-/// `place_rows` compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn place_avx2(view: &View, rows: &mut MeshRows<'_>, lines: &mut Vec<Option<RowLine>>) {
-    place_rows(view, rows, lines)
 }
 
 #[inline(always)]

@@ -11,6 +11,7 @@
 //! same IEEE operations run on every instruction set (no fused multiply-add is formed), so
 //! helpers agree bit for bit whichever set each runs.
 
+use crate::isa;
 use crate::ocean::mesh::MeshRows;
 use rustfft::num_complex::Complex;
 use std::ops::Range;
@@ -51,36 +52,33 @@ struct Derivatives {
     sy: Vec<f32>,
 }
 
+/// [`Fill::fill`]'s rows as a loop for [`isa::run_widest`].
+struct FillRows<'a, 's, 'm> {
+    fill: &'a Fill,
+    source: Source<'s>,
+    rows: &'a mut MeshRows<'m>,
+    these: Range<usize>,
+}
+
+impl isa::Loop for FillRows<'_, '_, '_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        self.fill.fill_rows(self.source, self.rows, self.these)
+    }
+}
+
 impl Fill {
     /// Fills rows `these` of the band `rows` (indices within the band) from `source`, which
     /// starts at the first of them.
     pub fn fill(&self, source: Source<'_>, rows: &mut MeshRows<'_>, these: Range<usize>) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if is_x86_feature_detected!("avx512f") {
-                // SAFETY: the CPU has AVX-512F, checked above.
-                return unsafe { self.fill_avx512(source, rows, these) };
-            }
-            if is_x86_feature_detected!("avx2") {
-                // SAFETY: the CPU has AVX2, checked above.
-                return unsafe { self.fill_avx2(source, rows, these) };
-            }
-        }
-        self.fill_rows(source, rows, these)
-    }
-
-    /// `fill_rows` compiled for AVX-512.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f,avx2")]
-    fn fill_avx512(&self, source: Source<'_>, rows: &mut MeshRows<'_>, these: Range<usize>) {
-        self.fill_rows(source, rows, these)
-    }
-
-    /// `fill_rows` compiled for AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    fn fill_avx2(&self, source: Source<'_>, rows: &mut MeshRows<'_>, these: Range<usize>) {
-        self.fill_rows(source, rows, these)
+        isa::run_widest(FillRows {
+            fill: self,
+            source,
+            rows,
+            these,
+        })
     }
 
     #[inline(always)]

@@ -10,6 +10,7 @@
 
 use super::{FftBand, FftState};
 use crate::grid::periodic_cell;
+use crate::isa;
 use crate::ocean::mesh::{Grid, Mesh, MeshRows};
 use crate::ocean::model::Stepper;
 use crate::ocean::shared_mesh::SharedMesh;
@@ -228,32 +229,22 @@ impl Corners {
 /// so helpers agree bit for bit whichever runs; the sets give `floor` an instruction of its own
 /// where baseline x86-64 calls libm.
 fn sample(surface: &Mesh, rows: MeshRows<'_>) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if is_x86_feature_detected!("avx512f") {
-            // SAFETY: the CPU has AVX-512F, checked above.
-            return unsafe { sample_avx512(surface, rows) };
-        }
-        if is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2, checked above.
-            return unsafe { sample_avx2(surface, rows) };
-        }
+    isa::run_widest(Sample { surface, rows })
+}
+
+/// `sample_points` as a loop for [`isa::run_widest`].
+struct Sample<'a, 'm> {
+    surface: &'a Mesh,
+    rows: MeshRows<'m>,
+}
+
+impl isa::Loop for Sample<'_, '_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        sample_points(self.surface, self.rows)
     }
-    sample_points(surface, rows)
-}
-
-/// `sample_points` compiled for AVX-512.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx2")]
-fn sample_avx512(surface: &Mesh, rows: MeshRows<'_>) {
-    sample_points(surface, rows)
-}
-
-/// `sample_points` compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn sample_avx2(surface: &Mesh, rows: MeshRows<'_>) {
-    sample_points(surface, rows)
 }
 
 /// Vertices sampled together: each pass over them is short enough that the CPU keeps many

@@ -9,7 +9,7 @@
 //! or planes it sums are mostly the last output's, still in cache: three passes of memory
 //! traffic, as three copies.
 
-use super::isa::{self, Isa};
+use crate::isa::{self, Isa};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Widest blur, in taps.

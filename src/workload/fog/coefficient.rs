@@ -11,8 +11,8 @@
 
 #[cfg(target_arch = "x86_64")]
 use super::gather;
-use super::isa::{self, Isa};
 use crate::grid::periodic_cell;
+use crate::isa::{self, Isa};
 use crate::ocean::Mesh;
 use glam::Vec3;
 

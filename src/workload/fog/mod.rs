@@ -11,7 +11,6 @@ pub mod calibrate;
 pub mod coefficient;
 #[cfg(target_arch = "x86_64")]
 mod gather;
-pub mod isa;
 pub mod noise;
 
 use super::{

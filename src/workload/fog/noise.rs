@@ -5,9 +5,9 @@
 //! Along a row only x varies, so the y and z halves of every lattice gradient's dot product and
 //! the y-z interpolation are done once per lattice column (a value `a + b·dx` for the column),
 //! and each voxel is a linear blend of its cell's two columns: about ten flops per sample, in a
-//! loop without gathers that LLVM vectorises ([`super::isa`]).
+//! loop without gathers that LLVM vectorises ([`crate::isa`]).
 
-use super::isa::{self, Isa};
+use crate::isa::{self, Isa};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Largest difference the tests allow between this noise (f32) and the `noise` crate's Perlin

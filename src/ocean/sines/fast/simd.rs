@@ -15,49 +15,7 @@ use super::vector::powi;
 use super::vector::{Avx2, Avx512};
 use super::vector::{Lane, Portable, Vector};
 
-/// The instruction set a fast kernel runs with.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Isa {
-    /// 512-bit vectors (AVX-512F) with FMA.
-    Avx512,
-    /// 256-bit vectors (AVX2) with FMA.
-    Avx2,
-    /// The target's baseline (SSE2 on x86-64), no FMA.
-    Portable,
-}
-
-impl Isa {
-    /// The widest instruction set this CPU supports.
-    pub fn detect() -> Isa {
-        Isa::available()[0]
-    }
-
-    /// Every instruction set this CPU supports, widest first (tests run them all).
-    pub fn available() -> Vec<Isa> {
-        let mut out = Vec::new();
-        #[cfg(target_arch = "x86_64")]
-        {
-            let fma_avx2 = is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma");
-            if fma_avx2 && is_x86_feature_detected!("avx512f") {
-                out.push(Isa::Avx512);
-            }
-            if fma_avx2 {
-                out.push(Isa::Avx2);
-            }
-        }
-        out.push(Isa::Portable);
-        out
-    }
-
-    /// Name for reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            Isa::Avx512 => "avx512",
-            Isa::Avx2 => "avx2",
-            Isa::Portable => "portable",
-        }
-    }
-}
+pub use crate::isa::Isa;
 
 /// The output rows of one step (the rows its `Tables` cover): heights and, for analytic normals,
 /// the normal components.
