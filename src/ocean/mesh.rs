@@ -173,6 +173,23 @@ impl MeshRows<'_> {
     pub fn rows(&self) -> usize {
         self.z.len() / self.grid.n
     }
+
+    /// The vertices `at` (indices within the band) of every array a model may write, in the
+    /// order x, y, z, nx, ny, nz, fold, fold_dx, fold_dy. A band of a mesh with no fold fields
+    /// has none to give: asking it panics.
+    pub fn outputs(&mut self, at: std::ops::Range<usize>) -> [&mut [f32]; 9] {
+        [
+            &mut self.x[at.clone()],
+            &mut self.y[at.clone()],
+            &mut self.z[at.clone()],
+            &mut self.nx[at.clone()],
+            &mut self.ny[at.clone()],
+            &mut self.nz[at.clone()],
+            &mut self.fold[at.clone()],
+            &mut self.fold_dx[at.clone()],
+            &mut self.fold_dy[at],
+        ]
+    }
 }
 
 #[cfg(test)]

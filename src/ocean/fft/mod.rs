@@ -301,6 +301,7 @@ impl FftState {
                 // Exact: the scale is a power of two.
                 unscale: 1.0 / terms.dxy_scale,
                 analytic: normals == NormalMethod::Analytic,
+                chunk: fill::CHUNK,
             },
             faces: (normals == NormalMethod::Neighbors).then(|| FaceNormals::new(grid)),
             passes: Passes {

@@ -285,6 +285,34 @@ fn the_model_refuses_what_it_cannot_run() {
 }
 
 #[test]
+fn rows_filled_a_few_columns_at_a_time_give_whole_rows_bits() {
+    let params = FftParams::default();
+    let n = 40;
+    let spectrum = Spectrum::new(&params, n);
+    for kernel in [Kernel::Reference, Kernel::Fast] {
+        for normals in [NormalMethod::Analytic, NormalMethod::Neighbors] {
+            let step = |chunk: usize| {
+                let mut state =
+                    FftState::with_kernel(&spectrum, params.patch_metres, 1.0, normals, kernel);
+                assert!(state.fill.chunk >= n, "a 40² row is one chunk by default");
+                state.fill.chunk = chunk;
+                let mut mesh = FftOcean.mesh(Grid::new(n, state.spacing()).unwrap());
+                state.step(1.5, &mut mesh);
+                mesh
+            };
+            let whole = step(n);
+            // 7 leaves a short last chunk; 1 puts each wrapped end of a row alone in its own.
+            for chunk in [1, 7, 16] {
+                assert!(
+                    step(chunk) == whole,
+                    "{kernel} {normals}: chunks of {chunk} differ from whole rows"
+                );
+            }
+        }
+    }
+}
+
+#[test]
 fn bands_stepped_phase_by_phase_give_the_whole_step_bit_for_bit() {
     let params = FftParams::default();
     let spectrum = Spectrum::new(&params, 16);
