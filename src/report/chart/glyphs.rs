@@ -13,6 +13,9 @@ use plotters_backend::{
 };
 use std::sync::OnceLock;
 
+/// The bundled font's file: the glyphs' outlines here, and plotters' registered font.
+pub(super) const FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
+
 /// Plotters' font size over the em size its SVG backend writes.
 const SIZE_PER_EM: f64 = 1.24;
 
@@ -22,9 +25,7 @@ const TOP_BASELINE_EM: f32 = 0.76;
 /// The bundled font, parsed once.
 fn font() -> &'static FontRef<'static> {
     static FONT: OnceLock<FontRef<'static>> = OnceLock::new();
-    FONT.get_or_init(|| {
-        FontRef::try_from_slice(super::render::FONT_BYTES).expect("the bundled font parses")
-    })
+    FONT.get_or_init(|| FontRef::try_from_slice(FONT_BYTES).expect("the bundled font parses"))
 }
 
 /// A backend whose text is drawn from glyph outlines; everything else goes to `inner` as is.

@@ -1,6 +1,6 @@
 //! Drawing the chart data with plotters, the same way for every backend.
 
-use super::glyphs::Glyphs;
+use super::glyphs::{Glyphs, FONT_BYTES};
 use super::{ChartError, ChartFormat};
 use plotters::chart::MeshStyle;
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged, ValueFormatter};
@@ -13,7 +13,6 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 const FONT: &str = "sans-serif";
-pub(super) const FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
 const TEXT: RGBColor = RGBColor(0x20, 0x20, 0x20);
 const SUBTLE: RGBColor = RGBColor(0x50, 0x50, 0x50);
 const NOTE: RGBColor = RGBColor(0xa0, 0x1c, 0x1c);
